@@ -1,0 +1,6 @@
+// Placeholder during initial development; replaced by the real command.
+#include <cstdio>
+#include "commands.h"
+namespace detexture::app {
+int run_synth(int, char**) { std::fputs("detexture: 'synth' is not built yet\n", stderr); return kExitFailure; }
+}  // namespace detexture::app

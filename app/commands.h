@@ -1,0 +1,21 @@
+// The subcommands of the detexture executable. main() dispatches on argv[1]:
+// "synth" and "compare" go to their own command, anything else is the
+// texture-removal job. Each returns the process exit code.
+#pragma once
+
+namespace detexture::app {
+
+/// Exit codes, documented in README.md.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitFailure = 1,     ///< unexpected internal error
+  kExitUsage = 2,       ///< bad command line or parameter value
+  kExitInput = 3,       ///< the input file is missing, unreadable or malformed
+  kExitOutput = 4,      ///< the output could not be written (or would overwrite the input)
+};
+
+int run_detexture(int argc, char** argv);
+int run_synth(int argc, char** argv);    ///< argv[0] is "synth"
+int run_compare(int argc, char** argv);  ///< argv[0] is "compare"
+
+}  // namespace detexture::app

@@ -1,0 +1,50 @@
+// Radius neighborhoods R_i (the paper's "RNN"), computed once for the whole
+// cloud and stored flat, then passed to every stage.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "detexture/types.h"
+
+namespace detexture {
+
+/// Compressed rows: the neighbors of point i are
+/// indices[offsets[i] .. offsets[i+1]), sorted by increasing distance, the
+/// point itself first. Squared distances are not stored (they are cheap to
+/// recompute and would double the memory).
+struct Neighborhoods {
+  std::vector<std::uint64_t> offsets;  ///< #P+1
+  std::vector<std::uint32_t> indices;  ///< offsets.back()
+
+  std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
+  const std::uint32_t* begin(std::size_t i) const { return indices.data() + offsets[i]; }
+  const std::uint32_t* end(std::size_t i) const { return indices.data() + offsets[i + 1]; }
+};
+
+struct RadiusNeighborhoodsParams {
+  double radius = 0.0;    ///< r: search radius, in the cloud's units; > 0
+  int max_neighbors = 0;  ///< keep at most this many nearest (self included); 0 = no cap
+};
+
+struct NeighborhoodStats {
+  std::size_t min = 0, max = 0;
+  double mean = 0.0;
+  std::size_t sparse_points = 0;  ///< points with fewer than min_count neighbors (self included)
+};
+
+/// All radius neighborhoods of P, built in parallel on a k-d tree (nanoflann).
+/// Throws std::invalid_argument for a non-positive radius, or more than 2^32
+/// points.
+Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoodsParams& params,
+                                   const ProgressFn& progress = {});
+
+/// The k nearest neighbors of every point (self included), same layout.
+/// Used for orientation and for clouds too sparse for the chosen radius.
+Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress = {});
+
+/// Count statistics; points with fewer than min_count neighbors are "sparse".
+NeighborhoodStats neighborhood_stats(const Neighborhoods& N, std::size_t min_count);
+
+}  // namespace detexture

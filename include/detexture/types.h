@@ -1,0 +1,23 @@
+// Plain data types shared by every stage.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+namespace detexture {
+
+/// #P by 3 row-major list of 3D vectors: positions or unit normals.
+using Matrix3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Positions = Matrix3;
+using Normals = Matrix3;
+
+/// Progress report from a long stage: a fraction in [0, 1], non-decreasing.
+/// Stages call it from one thread at a time, at most about a hundred times.
+using ProgressFn = std::function<void(double fraction)>;
+
+/// Length of the bounding-box diagonal of P (0 for fewer than two points).
+double bounding_box_diagonal(const Positions& P);
+
+}  // namespace detexture

@@ -1,0 +1,146 @@
+// The one place where nanoflann is used and where the radius is squared.
+#include "detexture/geometry/radius_neighborhoods.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nanoflann.hpp>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "progress_counter.h"
+
+namespace detexture {
+namespace {
+
+// nanoflann adaptor over the caller's matrix: the index never owns the data.
+struct PositionsAdaptor {
+  const Positions& P;
+  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(P.rows()); }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return P(i, dim); }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const {
+    return false;
+  }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
+    nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>, PositionsAdaptor, 3, std::uint32_t>;
+
+constexpr std::size_t kBlock = 2048;
+
+void check_size(const Positions& P) {
+  if (static_cast<std::uint64_t>(P.rows()) >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("clouds of more than 2^32-1 points are not supported");
+}
+
+// Runs query(i, out) for every point in parallel blocks and concatenates the
+// per-point results in point order, so the layout does not depend on the
+// number of threads.
+template <class Query>
+Neighborhoods build(std::size_t n, const ProgressFn& progress, Query&& query) {
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::uint32_t>> block_indices(blocks);
+  Neighborhoods result;
+  result.offsets.assign(n + 1, 0);
+  ProgressCounter counter(progress, n);
+#pragma omp parallel
+  {
+    std::vector<std::pair<std::uint32_t, double>> found;
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t lo = b * kBlock, hi = std::min(n, lo + kBlock);
+      auto& out = block_indices[b];
+      for (std::size_t i = lo; i < hi; ++i) {
+        query(i, found);
+        result.offsets[i + 1] = found.size();
+        for (const auto& f : found) out.push_back(f.first);
+      }
+      counter.advance(hi - lo);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) result.offsets[i + 1] += result.offsets[i];
+  result.indices.resize(result.offsets[n]);
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    std::copy(block_indices[b].begin(), block_indices[b].end(),
+              result.indices.begin() + result.offsets[b * kBlock]);
+    std::vector<std::uint32_t>().swap(block_indices[b]);
+  }
+  return result;
+}
+
+// Ties in distance are broken by index so the order is fully determined.
+void sort_by_distance(std::vector<std::pair<std::uint32_t, double>>& found) {
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) {
+    return a.second < b.second || (a.second == b.second && a.first < b.first);
+  });
+}
+
+}  // namespace
+
+Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoodsParams& params,
+                                   const ProgressFn& progress) {
+  if (!(params.radius > 0.0) || !std::isfinite(params.radius))
+    throw std::invalid_argument("the neighborhood radius must be a positive number, got " +
+                                std::to_string(params.radius));
+  if (params.max_neighbors < 0)
+    throw std::invalid_argument("the neighbor cap must be 0 (no cap) or positive");
+  check_size(P);
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  PositionsAdaptor adaptor{P};
+  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  const double radius_sq = params.radius * params.radius;
+  const std::size_t cap = params.max_neighbors > 0 ? static_cast<std::size_t>(params.max_neighbors)
+                                                   : std::numeric_limits<std::size_t>::max();
+  nanoflann::SearchParams search(32, 0.0f, false);
+  return build(n, progress, [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
+    const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+    found.clear();
+    tree.radiusSearch(q, radius_sq, found, search);
+    sort_by_distance(found);
+    if (found.size() > cap) found.resize(cap);
+  });
+}
+
+Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress) {
+  if (k < 1) throw std::invalid_argument("k for nearest neighbors must be at least 1");
+  check_size(P);
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(k), n);
+  PositionsAdaptor adaptor{P};
+  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  return build(n, progress, [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
+    const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+    thread_local std::vector<std::uint32_t> idx;
+    thread_local std::vector<double> dist;
+    idx.resize(kk);
+    dist.resize(kk);
+    const std::size_t got = tree.knnSearch(q, kk, idx.data(), dist.data());
+    found.clear();
+    for (std::size_t t = 0; t < got; ++t) found.emplace_back(idx[t], dist[t]);
+    sort_by_distance(found);
+  });
+}
+
+NeighborhoodStats neighborhood_stats(const Neighborhoods& N, std::size_t min_count) {
+  NeighborhoodStats s;
+  const std::size_t n = N.size();
+  if (n == 0) return s;
+  s.min = std::numeric_limits<std::size_t>::max();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t c = N.count(i);
+    s.min = std::min(s.min, c);
+    s.max = std::max(s.max, c);
+    if (c < min_count) ++s.sparse_points;
+  }
+  s.mean = static_cast<double>(N.indices.size()) / static_cast<double>(n);
+  return s;
+}
+
+}  // namespace detexture
