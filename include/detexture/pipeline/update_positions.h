@@ -1,0 +1,86 @@
+// Position update (Sun et al. 2019, Sec. 6, Eqs. 9-10): move the points so
+// that they fit the filtered normal field.
+//
+// The paper minimizes, for every point on its own with neighbor positions held
+// at the input (Eq. 9 reads p'_i - p_j),
+//   Σ_{j∈Ψ_i} w(p'_i, p_j, σp) ((p'_i - p_j)·n_j)²                    (Eq. 10)
+// where Ψ_i, the isotropic neighborhood, keeps the neighbors whose filtered
+// normal is within an angle of n_i so that points do not slide onto the
+// tangent planes across a crease (Fig. 8). Eq. 9 is the same sum over R_i.
+// We iterate the fixed point p'_i += Σ w ((p_j - p'_i)·n_j) n_j / Σ w to a
+// tolerance.
+//
+// That local fit lands each point on a weighted mean of its neighbors'
+// tangent planes, so a point on top of a bump wider than its neighborhood
+// stays high: the texture leaves the normals but not the positions. The
+// default, `Global`, instead solves one sparse least-squares problem for all
+// points at once. Each point moves only along its filtered normal,
+// p'_i = p_i + t_i n_i, and we minimize
+//   Σ_i μ_i t_i² + Σ_i Σ_{j∈Ψ_i} w_ij ((p'_i - p'_j)·m_ij)²,   m_ij = (n_i+n_j)/|n_i+n_j|
+// — every neighbor chord should lie in the tangent plane of its midpoint
+// normal (exact on spheres and planes, so nothing shrinks or expands). The
+// anchor weight μ_i is large for underlying-surface points (Eq. 2) and tiny
+// for texture points, so texture points are carried to the surface spanned by
+// their untextured surroundings, however wide the feature. Moving along the
+// normal only, points never cluster at creases or open gaps. The system is
+// symmetric positive definite and solved by Jacobi-preconditioned conjugate
+// gradients over the members of Ψ_i within `solve_radius` (a distance cut
+// keeps the graph symmetric and the solve cheap).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/types.h"
+
+namespace detexture {
+
+enum class UpdateMode {
+  Global,     ///< ours: one least-squares solve along the normals (default)
+  Isotropic,  ///< the paper's Eq. 10, point by point over Ψ_i
+  Eq9,        ///< the paper's Eq. 9, point by point over R_i (Fig. 8 ablation)
+};
+
+struct UpdatePositionsParams {
+  UpdateMode mode = UpdateMode::Global;
+  /// σp: spatial scale of the weights w, in the cloud's units; > 0.
+  double sigma_p = 0.0;
+  /// Ψ_i keeps neighbors whose filtered normal is within this angle of n_i,
+  /// in degrees, in (0, 180].
+  double isotropy_deg = 30.0;
+  /// Global: anchor weight of underlying-surface points, relative to their
+  /// data weight; ≥ 0. Larger keeps them closer to where they were.
+  double anchor_surface = 0.05;
+  /// Global: anchor weight of texture points, relative; > 0 (keeps the
+  /// problem well posed where no underlying surface is near).
+  double anchor_texture = 1e-4;
+  /// Global: only members of Ψ_i closer than this take part in the solve, in
+  /// the cloud's units; 0 uses all of R_i.
+  double solve_radius = 0.0;
+  /// Iteration cap (fixed-point iterations, or conjugate-gradient steps), ≥ 1.
+  int max_iterations = 200;
+  /// Convergence tolerance, > 0. Local modes: a point stops when its move in
+  /// an iteration is below tolerance·σp. Global: conjugate gradients stop when
+  /// the residual is below tolerance times the right-hand side (2-norms).
+  double tolerance = 1e-5;
+};
+
+struct UpdatePositionsResult {
+  Positions positions;             ///< #P by 3
+  int iterations = 0;              ///< Global: CG steps; local modes: the most any point took
+  std::size_t isolated = 0;        ///< points whose Ψ_i held only themselves: kept in place
+  double mean_displacement = 0.0;  ///< mean |p' - p|, to judge how much was removed
+};
+
+/// Fit positions to the filtered normals (#P by 3, unit, oriented). `is_texture`
+/// is needed by Global and may be empty otherwise.
+UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
+                                       const Neighborhoods& R,
+                                       const std::vector<std::uint8_t>& is_texture,
+                                       const UpdatePositionsParams& params,
+                                       const ProgressFn& progress = {});
+
+void validate(const UpdatePositionsParams& params);
+
+}  // namespace detexture

@@ -1,0 +1,73 @@
+#include "detexture/pipeline/filter_normals_rolling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace detexture {
+
+void validate(const FilterNormalsRollingParams& p) {
+  if (!(p.sigma_s > 0.0) || !std::isfinite(p.sigma_s))
+    throw std::invalid_argument("sigma_s (spatial scale) must be positive, got " +
+                                std::to_string(p.sigma_s));
+  if (!(p.sigma_r_deg > 0.0 && p.sigma_r_deg <= 180.0))
+    throw std::invalid_argument("sigma_r (range scale) must lie in (0, 180] degrees, got " +
+                                std::to_string(p.sigma_r_deg));
+  if (p.iterations < 0)
+    throw std::invalid_argument("the number of rolling iterations cannot be negative, got " +
+                                std::to_string(p.iterations));
+  if (!(p.tolerance_deg >= 0.0))
+    throw std::invalid_argument("the rolling tolerance cannot be negative, got " +
+                                std::to_string(p.tolerance_deg));
+}
+
+RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,
+                                           const Normals& initial, const Neighborhoods& R,
+                                           const std::vector<std::uint8_t>& is_texture,
+                                           const FilterNormalsRollingParams& params,
+                                           const ProgressFn& progress) {
+  validate(params);
+  const std::size_t n = R.size();
+  const bool sub = params.use_subneighborhood;
+  if (sub && is_texture.size() != n)
+    throw std::invalid_argument("filter_normals_rolling: texture labels missing");
+  const double inv_two_sigma_s_sq = 1.0 / (2.0 * params.sigma_s * params.sigma_s);
+  const double chord = 2.0 * std::sin(params.sigma_r_deg * M_PI / 360.0);
+  const double inv_two_chord_sq = 1.0 / (2.0 * chord * chord);
+
+  RollingFilterResult out;
+  out.normals = initial;
+  Normals next(static_cast<Eigen::Index>(n), 3);
+  for (int k = 0; k < params.iterations; ++k) {
+    const Normals G = guidance_normals(P, out.normals, R, params.guidance);
+    double change = 0.0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : change)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::RowVector3d pi = P.row(i), gi = G.row(i);
+      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+      bool any = false;
+      for (int pass = sub ? 0 : 1; pass < 2 && !any; ++pass) {
+        for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
+          if (pass == 0 && is_texture[*j]) continue;
+          const double w = std::exp(-(P.row(*j) - pi).squaredNorm() * inv_two_sigma_s_sq -
+                                    (G.row(*j) - gi).squaredNorm() * inv_two_chord_sq);
+          sum += w * input.row(*j);
+          any = true;
+        }
+      }
+      const double norm = sum.norm();
+      next.row(i) = norm > 1e-12 ? Eigen::RowVector3d(sum / norm) : out.normals.row(i);
+      change += std::acos(std::clamp(next.row(i).dot(out.normals.row(i)), -1.0, 1.0));
+    }
+    out.normals.swap(next);
+    out.iterations = k + 1;
+    out.last_change_deg = n ? change / static_cast<double>(n) * 180.0 / M_PI : 0.0;
+    if (progress) progress(static_cast<double>(k + 1) / params.iterations);
+    if (out.last_change_deg < params.tolerance_deg) break;
+  }
+  if (progress) progress(1.0);
+  return out;
+}
+
+}  // namespace detexture

@@ -1,0 +1,227 @@
+#include "detexture/pipeline/update_positions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "progress_counter.h"
+
+namespace detexture {
+
+void validate(const UpdatePositionsParams& p) {
+  if (!(p.sigma_p > 0.0) || !std::isfinite(p.sigma_p))
+    throw std::invalid_argument("sigma_p (position weight scale) must be positive, got " +
+                                std::to_string(p.sigma_p));
+  if (!(p.isotropy_deg > 0.0 && p.isotropy_deg <= 180.0))
+    throw std::invalid_argument("the isotropy angle must lie in (0, 180] degrees, got " +
+                                std::to_string(p.isotropy_deg));
+  if (!(p.anchor_surface >= 0.0))
+    throw std::invalid_argument("the surface anchor weight cannot be negative");
+  if (!(p.anchor_texture > 0.0))
+    throw std::invalid_argument("the texture anchor weight must be positive");
+  if (!(p.solve_radius >= 0.0)) throw std::invalid_argument("the solve radius cannot be negative");
+  if (p.max_iterations < 1)
+    throw std::invalid_argument("the position update needs at least one iteration");
+  if (!(p.tolerance > 0.0))
+    throw std::invalid_argument("the position update tolerance must be positive");
+}
+
+namespace {
+
+// Eqs. 9-10, one point at a time: neighbors stay at their input positions, so
+// every point converges on its own.
+UpdatePositionsResult update_local(const Positions& P, const Normals& N, const Neighborhoods& R,
+                                   const UpdatePositionsParams& params, bool isotropic,
+                                   const ProgressFn& progress) {
+  const std::size_t n = R.size();
+  const double cos_iso = std::cos(params.isotropy_deg * M_PI / 180.0);
+  const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma_p * params.sigma_p);
+  const double tol = params.tolerance * params.sigma_p;
+  UpdatePositionsResult out;
+  out.positions = P;
+  std::size_t isolated = 0;
+  int most = 0;
+  double moved = 0.0;
+  ProgressCounter counter(progress, n);
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : isolated, moved) reduction(max : most)
+  for (std::size_t i = 0; i < n; ++i) {
+    if ((i & 1023) == 1023) counter.advance(1024);
+    const Eigen::RowVector3d ni = N.row(i);
+    bool any = false;
+    for (const std::uint32_t* j = R.begin(i); j != R.end(i) && !any; ++j)
+      any = *j != i && (!isotropic || ni.dot(N.row(*j)) >= cos_iso);
+    if (!any) {
+      ++isolated;
+      continue;
+    }
+    Eigen::RowVector3d p = P.row(i);
+    int it = 0;
+    while (it < params.max_iterations) {
+      ++it;
+      Eigen::RowVector3d step = Eigen::RowVector3d::Zero();
+      double wsum = 0.0;
+      for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
+        const auto nj = N.row(*j);
+        if (isotropic && ni.dot(nj) < cos_iso) continue;
+        const Eigen::RowVector3d d = P.row(*j) - p;
+        const double w = std::exp(-d.squaredNorm() * inv_two_sigma_sq);
+        step += w * d.dot(nj) * nj;
+        wsum += w;
+      }
+      if (wsum <= 0.0) break;
+      step /= wsum;
+      p += step;
+      if (step.norm() < tol) break;
+    }
+    most = std::max(most, it);
+    moved += (p - P.row(i)).norm();
+    out.positions.row(i) = p;
+  }
+  counter.advance(n);
+  out.isolated = isolated;
+  out.iterations = most;
+  out.mean_displacement = n ? moved / static_cast<double>(n) : 0.0;
+  return out;
+}
+
+// The global solve along the normals (see the header). Row i of the system
+// lists the members of Ψ_i within the solve radius: a prefix of R_i, which is
+// sorted by distance, filtered by normal angle. Both conditions are
+// symmetric, so the matrix is too.
+UpdatePositionsResult update_global(const Positions& P, const Normals& N, const Neighborhoods& R,
+                                    const std::vector<std::uint8_t>& is_texture,
+                                    const UpdatePositionsParams& params,
+                                    const ProgressFn& progress) {
+  const std::size_t n = R.size();
+  if (is_texture.size() != n)
+    throw std::invalid_argument("update_positions: the global update needs texture labels");
+  const double cos_iso = std::cos(params.isotropy_deg * M_PI / 180.0);
+  const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma_p * params.sigma_p);
+  const double radius_sq = params.solve_radius > 0.0 ? params.solve_radius * params.solve_radius
+                                                     : std::numeric_limits<double>::infinity();
+
+  // Row lengths (prefix of R_i inside the solve radius), then coefficients.
+  std::vector<std::uint64_t> offsets(n + 1, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t len = 0;
+    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j, ++len)
+      if ((P.row(*j) - P.row(i)).squaredNorm() > radius_sq) break;
+    offsets[i + 1] = len;
+  }
+  for (std::size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+  std::vector<float> off_diag(offsets[n], 0.0f);  // A_ij = -w a b (0: not in Ψ_i, or self)
+  Eigen::VectorXd diag(static_cast<Eigen::Index>(n)), rhs(static_cast<Eigen::Index>(n));
+  std::size_t isolated = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : isolated)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::RowVector3d ni = N.row(i), pi = P.row(i);
+    double data = 0.0, b_i = 0.0;
+    const std::uint32_t* nb = R.begin(i);
+    for (std::uint64_t e = offsets[i]; e < offsets[i + 1]; ++e, ++nb) {
+      const std::uint32_t j = *nb;
+      if (j == i) continue;
+      const Eigen::RowVector3d nj = N.row(j);
+      if (ni.dot(nj) < cos_iso) continue;
+      const Eigen::RowVector3d mid = (ni + nj).normalized();
+      const Eigen::RowVector3d d = pi - P.row(j);
+      const double w = std::exp(-d.squaredNorm() * inv_two_sigma_sq);
+      const double a = ni.dot(mid), b = nj.dot(mid), c = d.dot(mid);
+      data += w * a * a;
+      off_diag[e] = static_cast<float>(-w * a * b);
+      b_i -= w * a * c;
+    }
+    const double beta = is_texture[i] ? params.anchor_texture : params.anchor_surface;
+    if (data <= 0.0) {
+      ++isolated;
+      data = 1.0;  // decoupled row: t_i = 0, the point stays
+    }
+    diag(static_cast<Eigen::Index>(i)) = data * (1.0 + beta);
+    rhs(static_cast<Eigen::Index>(i)) = b_i;
+  }
+
+  auto multiply = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (std::size_t i = 0; i < n; ++i) {
+      double s = diag(static_cast<Eigen::Index>(i)) * x(static_cast<Eigen::Index>(i));
+      const std::uint32_t* nb = R.begin(i);
+      for (std::uint64_t e = offsets[i]; e < offsets[i + 1]; ++e, ++nb)
+        s += static_cast<double>(off_diag[e]) * x(*nb);
+      y(static_cast<Eigen::Index>(i)) = s;
+    }
+  };
+  // Deterministic parallel dot product: fixed blocks summed in order.
+  auto dot = [n](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    constexpr std::size_t kBlock = 4096;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<double> partial(blocks);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < blocks; ++k) {
+      const std::size_t lo = k * kBlock, len = std::min(n, lo + kBlock) - lo;
+      partial[k] = a.segment(lo, len).dot(b.segment(lo, len));
+    }
+    double s = 0.0;
+    for (double v : partial) s += v;
+    return s;
+  };
+
+  // Jacobi-preconditioned conjugate gradients from t = 0.
+  const Eigen::Index m = static_cast<Eigen::Index>(n);
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(m), r = rhs, z(m), p(m), Ap(m);
+  const Eigen::VectorXd inv_diag = diag.cwiseInverse();
+  z = inv_diag.cwiseProduct(r);
+  p = z;
+  double rz = dot(r, z);
+  const double stop = params.tolerance * std::sqrt(dot(rhs, rhs));
+  int it = 0;
+  while (it < params.max_iterations && std::sqrt(dot(r, r)) > stop) {
+    ++it;
+    multiply(p, Ap);
+    const double alpha = rz / dot(p, Ap);
+    t += alpha * p;
+    r -= alpha * Ap;
+    z = inv_diag.cwiseProduct(r);
+    const double rz_next = dot(r, z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+    if (progress) progress(static_cast<double>(it) / params.max_iterations);
+  }
+  if (progress) progress(1.0);
+
+  UpdatePositionsResult out;
+  out.positions = P;
+  double moved = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    out.positions.row(i) += t(static_cast<Eigen::Index>(i)) * N.row(i);
+    moved += std::abs(t(static_cast<Eigen::Index>(i)));
+  }
+  out.iterations = it;
+  out.isolated = isolated;
+  out.mean_displacement = n ? moved / static_cast<double>(n) : 0.0;
+  return out;
+}
+
+}  // namespace
+
+UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
+                                       const Neighborhoods& R,
+                                       const std::vector<std::uint8_t>& is_texture,
+                                       const UpdatePositionsParams& params,
+                                       const ProgressFn& progress) {
+  validate(params);
+  if (static_cast<std::size_t>(P.rows()) != R.size() || filtered.rows() != P.rows())
+    throw std::invalid_argument(
+        "update_positions: positions, normals and neighborhoods differ in size");
+  switch (params.mode) {
+    case UpdateMode::Global:
+      return update_global(P, filtered, R, is_texture, params, progress);
+    case UpdateMode::Isotropic:
+      return update_local(P, filtered, R, params, true, progress);
+    case UpdateMode::Eq9:
+      return update_local(P, filtered, R, params, false, progress);
+  }
+  throw std::logic_error("update_positions: unknown mode");
+}
+
+}  // namespace detexture

@@ -1,0 +1,96 @@
+#include "detexture/pipeline/detect_texture.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include "test_support.h"
+
+namespace detexture {
+namespace {
+
+// A bump of width 0.015 (visible out to ~0.05) on a plane sampled every 0.01;
+// neighborhoods of radius 0.06 always hold plenty of flat plane, so RANSAC
+// finds the plane and the bump's points are its outliers.
+TEST(DetectTexture, BumpOnPlaneIsTexture) {
+  const auto s = test::bumpy_plane(101, 0.03, 0.015);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  const TextureDetection det = detect_texture(s.P, R, params);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double dist = std::hypot(s.P(i, 0) - 0.5, s.P(i, 1) - 0.5);
+    if (s.height(i) > 2 * params.lambda) EXPECT_TRUE(det.is_texture[i]) << "point " << i;
+    if (dist > 0.06 + 0.05) EXPECT_FALSE(det.is_texture[i]) << "point " << i;
+  }
+  EXPECT_GT(det.texture_points, 20u);
+  EXPECT_EQ(det.no_plane, 0u);
+}
+
+TEST(DetectTexture, FlatPlaneHasNoTexture) {
+  const auto s = test::bumpy_plane(41, 0.0, 0.1);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 1e-6;
+  const TextureDetection det = detect_texture(s.P, R, params);
+  EXPECT_EQ(det.texture_points, 0u);
+  // One good try suffices when every point is an inlier (grid-aligned triples
+  // are collinear and cost a retry now and then).
+  EXPECT_LT(det.mean_iterations, 1.5);
+}
+
+TEST(DetectTexture, InlierCountsFollowEq2) {
+  const auto s = test::bumpy_plane(61, 0.03, 0.02);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  params.delta = 0.7;
+  const TextureDetection det = detect_texture(s.P, R, params);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    EXPECT_EQ(det.members[i], R.count(i)) << "radius neighborhoods are symmetric";
+    EXPECT_LE(det.inliers[i], det.members[i]);
+    EXPECT_EQ(det.is_texture[i] != 0, !(det.inliers[i] > params.delta * det.members[i]));
+  }
+}
+
+TEST(DetectTexture, IdenticalForAnyThreadCount) {
+  const auto s = test::bumpy_plane(81, 0.03, 0.03);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.05, 0});
+  DetectTextureParams params;
+  params.lambda = 0.003;
+  omp_set_num_threads(1);
+  const TextureDetection a = detect_texture(s.P, R, params);
+  omp_set_num_threads(2);
+  const TextureDetection b = detect_texture(s.P, R, params);
+  EXPECT_EQ(a.inliers, b.inliers);
+  EXPECT_EQ(a.is_texture, b.is_texture);
+  params.seed = 2;
+  const TextureDetection c = detect_texture(s.P, R, params);
+  EXPECT_EQ(c.members, a.members);
+}
+
+TEST(DetectTexture, TooFewNeighborsCountedNotFatal) {
+  Positions P(2, 3);
+  P << 0, 0, 0, 1, 0, 0;
+  const Neighborhoods R = radius_neighborhoods(P, {0.1, 0});
+  DetectTextureParams params;
+  params.lambda = 0.01;
+  const TextureDetection det = detect_texture(P, R, params);
+  EXPECT_EQ(det.no_plane, 2u);
+  EXPECT_EQ(det.texture_points, 0u);
+}
+
+TEST(DetectTexture, RejectsBadParameters) {
+  const auto s = test::bumpy_plane(5, 0.0, 0.1);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.5, 0});
+  DetectTextureParams params;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument) << "lambda unset";
+  params.lambda = 0.01;
+  params.delta = 1.0;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+  params.delta = 0.8;
+  params.max_iterations = 0;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace detexture

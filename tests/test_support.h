@@ -1,0 +1,96 @@
+// Small shapes for tests whose answers can be worked out by hand.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "detexture/types.h"
+
+namespace detexture::test {
+
+/// A unit square z = h(x, y) sampled on a regular grid of `side` x `side`
+/// points, with one Gaussian bump h = amplitude·exp(-|q - c|²/(2 width²))
+/// centred at c = (0.5, 0.5). Normals are the exact normals of the bumpy
+/// surface; `height` gets h per point.
+struct BumpyPlane {
+  Positions P;
+  Normals N;
+  Eigen::VectorXd height;
+};
+
+inline BumpyPlane bumpy_plane(int side, double amplitude, double width) {
+  BumpyPlane s;
+  const int n = side * side;
+  s.P.resize(n, 3);
+  s.N.resize(n, 3);
+  s.height.resize(n);
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) {
+      const int i = a * side + b;
+      const double x = a / (side - 1.0), y = b / (side - 1.0);
+      const double dx = x - 0.5, dy = y - 0.5;
+      const double h = amplitude * std::exp(-(dx * dx + dy * dy) / (2 * width * width));
+      s.P.row(i) << x, y, h;
+      s.height(i) = h;
+      // ∇h = -h (dx, dy) / width²; n ∝ (-h_x, -h_y, 1).
+      const Eigen::RowVector3d n(h * dx / (width * width), h * dy / (width * width), 1.0);
+      s.N.row(i) = n.normalized();
+    }
+  return s;
+}
+
+}  // namespace detexture::test
+
+namespace detexture::test {
+
+/// Angle in degrees between two unit row vectors.
+inline double angle_deg(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
+  return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+/// A unit square folded along x = 0.5 by `angle_deg`: the half x <= 0.5 lies
+/// in z = 0, the other half rises at the given angle. Sampled on a side x side
+/// grid of (x, y) before folding; exact face normals, the crease line taking
+/// the flat face's.
+inline BumpyPlane folded_plane(int side, double angle_deg) {
+  BumpyPlane s;
+  const int n = side * side;
+  s.P.resize(n, 3);
+  s.N.resize(n, 3);
+  s.height.setZero(n);
+  const double t = angle_deg * M_PI / 180.0;
+  const Eigen::RowVector3d rising(-std::sin(t), 0.0, std::cos(t));
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) {
+      const int i = a * side + b;
+      const double x = a / (side - 1.0), y = b / (side - 1.0);
+      if (x <= 0.5) {
+        s.P.row(i) << x, y, 0.0;
+        s.N.row(i) << 0.0, 0.0, 1.0;
+      } else {
+        s.P.row(i) << 0.5 + (x - 0.5) * std::cos(t), y, (x - 0.5) * std::sin(t);
+        s.N.row(i) = rising;
+      }
+    }
+  return s;
+}
+
+/// `n` points spread evenly over a sphere of radius `radius` at the origin
+/// (Fibonacci lattice), with outward normals.
+inline BumpyPlane fibonacci_sphere(int n, double radius) {
+  BumpyPlane s;
+  s.P.resize(n, 3);
+  s.N.resize(n, 3);
+  s.height.setZero(n);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n;
+    const double rho = std::sqrt(1.0 - z * z);
+    const Eigen::RowVector3d u(rho * std::cos(golden * i), rho * std::sin(golden * i), z);
+    s.N.row(i) = u;
+    s.P.row(i) = radius * u;
+  }
+  return s;
+}
+
+}  // namespace detexture::test

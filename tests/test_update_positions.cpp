@@ -1,0 +1,86 @@
+#include "detexture/pipeline/update_positions.h"
+
+#include <gtest/gtest.h>
+
+#include "detexture/pipeline/detect_texture.h"
+#include "test_support.h"
+
+namespace detexture {
+namespace {
+
+// The filtered normals of a plane with a bump are all +z; the bump's points
+// are texture (detect_texture). The global solve carries them down onto the
+// plane; the paper's local update only averages heights and leaves part of
+// the bump standing.
+TEST(UpdatePositions, GlobalPutsBumpBackOnPlane) {
+  const auto s = test::bumpy_plane(101, 0.03, 0.03);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
+  DetectTextureParams tp;
+  tp.lambda = 0.002;
+  const TextureDetection det = detect_texture(s.P, R, tp);
+  Normals up(s.P.rows(), 3);
+  up.rowwise() = Eigen::RowVector3d(0, 0, 1);
+  UpdatePositionsParams params;
+  params.sigma_p = 0.03;
+  params.solve_radius = 0.03;
+  const UpdatePositionsResult global = update_positions(s.P, up, R, det.is_texture, params);
+  params.mode = UpdateMode::Isotropic;
+  const UpdatePositionsResult local = update_positions(s.P, up, R, det.is_texture, params);
+  const double top = s.height.maxCoeff();
+  EXPECT_LT(global.positions.col(2).cwiseAbs().maxCoeff(), 0.1 * top);
+  EXPECT_GT(local.positions.col(2).cwiseAbs().maxCoeff(), 0.3 * top);
+  // x and y do not change: points move along their normal only.
+  EXPECT_LT((global.positions.leftCols(2) - s.P.leftCols(2)).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// On a sphere with its exact normals the global update leaves the points on
+// the sphere: no shrinking, no expansion. The paper's point-by-point updates
+// fit each point to its neighbors' tangent planes, which lie outside a convex
+// surface, so they expand it by about the mean of w·d²/(2R) — the "external
+// expansion" of the paper's Table 3.
+TEST(UpdatePositions, SphereKeepsItsRadius) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  const std::vector<std::uint8_t> none(s.P.rows(), 0);
+  for (UpdateMode mode : {UpdateMode::Global, UpdateMode::Isotropic, UpdateMode::Eq9}) {
+    UpdatePositionsParams params;
+    params.mode = mode;
+    params.sigma_p = 0.05;
+    params.solve_radius = 0.05;
+    const UpdatePositionsResult u = update_positions(s.P, s.N, R, none, params);
+    const double mean_radius = u.positions.rowwise().norm().mean();
+    if (mode == UpdateMode::Global)
+      EXPECT_NEAR(mean_radius, 1.0, 1e-4);
+    else
+      EXPECT_GT(mean_radius, 1.0005) << "mode " << static_cast<int>(mode);
+  }
+}
+
+TEST(UpdatePositions, IsolatedPointsStay) {
+  Positions P(2, 3);
+  P << 0, 0, 0, 5, 0, 0;
+  Normals N(2, 3);
+  N << 0, 0, 1, 0, 0, 1;
+  const Neighborhoods R = radius_neighborhoods(P, {0.1, 0});
+  UpdatePositionsParams params;
+  params.sigma_p = 0.05;
+  const UpdatePositionsResult u = update_positions(P, N, R, {0, 0}, params);
+  EXPECT_EQ(u.isolated, 2u);
+  EXPECT_EQ(u.positions, P);
+}
+
+TEST(UpdatePositions, RejectsBadParameters) {
+  const auto s = test::bumpy_plane(5, 0.0, 0.1);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.5, 0});
+  UpdatePositionsParams params;
+  EXPECT_THROW(update_positions(s.P, s.N, R, {}, params), std::invalid_argument);
+  params.sigma_p = 0.1;
+  EXPECT_THROW(update_positions(s.P, s.N, R, {}, params), std::invalid_argument)
+      << "global needs labels";
+  params.isotropy_deg = 0.0;
+  params.mode = UpdateMode::Isotropic;
+  EXPECT_THROW(update_positions(s.P, s.N, R, {}, params), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace detexture
