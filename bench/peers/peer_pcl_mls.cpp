@@ -1,0 +1,250 @@
+// peer_pcl_mls: PCL's moving least squares smoothing
+// (pcl::MovingLeastSquares<PointNormal, PointNormal>, Alexa et al. 2003 with a
+// local polynomial fit), as a peer for detexture's benchmarks.
+//
+// Reads a PLY (normals optional), projects every point onto the MLS surface of
+// its radius neighbourhood, computes MLS normals and flips each to agree with
+// the input normal of the point it came from (with NONE upsampling every
+// output point comes from exactly one input point, so that input point is also
+// its nearest input point). Writes the cloud in input order (every other
+// property carried through) and prints `seconds: <wall time of MLS + normal
+// orientation>` last.
+//
+// PCL drops points with fewer than 3 neighbours within the radius; those keep
+// their input position and normal here, and their count is reported.
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/surface/mls.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "detexture/io/read_point_cloud.h"
+#include "detexture/io/write_point_cloud.h"
+#include "detexture/types.h"
+
+namespace {
+
+using PclPoint = pcl::PointNormal;
+using Mls = pcl::MovingLeastSquares<PclPoint, PclPoint>;
+
+struct Params {
+  std::string input;
+  std::string output;
+  std::string radius;                 ///< search radius: model units or "0.02d" (required, > 0)
+  int order = 2;                      ///< polynomial order; PCL's default (0 or 1 = plane fit only)
+  std::string projection = "simple";  ///< PCL's default projection method
+  double sqr_gauss_param =
+      0.0;          ///< squared Gaussian bandwidth of the weights; 0 = radius², PCL's default
+  int threads = 0;  ///< 0 = all hardware threads
+};
+
+const char* kProgram = "peer_pcl_mls";
+
+/// A length as given on the command line: "0.5" in model units or "0.02d", a
+/// fraction of the bounding-box diagonal d (detexture's own syntax).
+struct LengthArg {
+  double value = 0.0;
+  bool relative = false;
+  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
+};
+
+LengthArg parse_length_arg(const std::string& text, const std::string& option) {
+  LengthArg length;
+  std::string number = text;
+  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
+    length.relative = true;
+    number.pop_back();
+  }
+  std::size_t used = 0;
+  try {
+    length.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (number.empty() || used != number.size() || !std::isfinite(length.value) || length.value < 0.0)
+    throw CLI::ValidationError(
+        option,
+        "expected a length >= 0 in model units (0.5) or as a fraction of the "
+        "bounding-box diagonal (0.02d), got '" +
+            text + "'");
+  return length;
+}
+
+/// Refuse output == input before any work (the writer refuses too, but only
+/// after the algorithm has run).
+void check_output_is_not_input(const std::string& input, const std::string& output) {
+  std::error_code error;
+  if (std::filesystem::exists(output, error) && std::filesystem::equivalent(input, output, error))
+    throw std::runtime_error("output '" + output +
+                             "' is the input file; choose another output path.");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Params params;
+  CLI::App app{
+      "PCL 1.13 MovingLeastSquares<PointNormal, PointNormal> as a detexture peer.\n"
+      "Reads a PLY, writes the MLS-projected points with MLS normals (oriented to agree with\n"
+      "the input normals when there are any); the last line of stdout is\n"
+      "`seconds: <time of MLS + normal orientation, without I/O>`.",
+      kProgram};
+  app.add_option("input", params.input, "Input PLY (normals optional, used only for orientation)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("output", params.output, "Output PLY (binary little endian)")->required();
+  app.add_option(
+         "-r,--radius", params.radius,
+         "Search radius (> 0), in model units or as a fraction of the bounding-box diagonal "
+         "(0.02d, detexture's default radius); no default")
+      ->required();
+  app.add_option("-o,--order", params.order,
+                 "Polynomial order of the local fit (0 to 5; 0 or 1 = tangent plane only)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 5));
+  app.add_option("-p,--projection", params.projection,
+                 "Projection onto the fitted surface: simple (along the plane normal), orthogonal "
+                 "(closest point on the polynomial), none (onto the plane)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"simple", "orthogonal", "none"}));
+  app.add_option("--sqr-gauss-param", params.sqr_gauss_param,
+                 "Squared Gaussian bandwidth of the fit weights (model units²); 0 = radius² (PCL's "
+                 "default)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("-t,--threads", params.threads,
+                 "Worker threads (OpenMP); 0 = all hardware threads")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+
+  LengthArg radius_arg;
+  try {
+    app.parse(argc, argv);
+    radius_arg = parse_length_arg(params.radius, "--radius");
+    if (radius_arg.value <= 0.0) throw CLI::ValidationError("--radius", "must be > 0");
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: error: %s (run with --help for usage)\n", kProgram, e.what());
+    return 2;
+  }
+
+  try {
+    check_output_is_not_input(params.input, params.output);
+    detexture::PointCloud cloud = detexture::read_point_cloud(params.input);
+    const std::size_t n = cloud.size();
+    const bool orient = cloud.has_normals();
+
+    pcl::PointCloud<PclPoint>::Ptr input(new pcl::PointCloud<PclPoint>);
+    input->resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto p = cloud.positions.row(static_cast<Eigen::Index>(i));
+      PclPoint& q = (*input)[i];
+      q.x = static_cast<float>(p(0));
+      q.y = static_cast<float>(p(1));
+      q.z = static_cast<float>(p(2));
+      if (orient) {
+        const auto m = cloud.normals.row(static_cast<Eigen::Index>(i));
+        q.normal_x = static_cast<float>(m(0));
+        q.normal_y = static_cast<float>(m(1));
+        q.normal_z = static_cast<float>(m(2));
+      } else {
+        q.normal_x = q.normal_y = q.normal_z = 0.0f;
+      }
+      q.curvature = 0.0f;
+    }
+    input->width = static_cast<std::uint32_t>(n);
+    input->height = 1;
+    input->is_dense = true;
+
+    const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+    const int threads = params.threads > 0 ? params.threads : (hardware > 0 ? hardware : 1);
+    std::printf("parallel: OpenMP, %d threads\n", threads);
+    const double radius = radius_arg.resolve(detexture::bounding_box_diagonal(cloud.positions));
+    if (!(radius > 0.0))
+      throw std::runtime_error("input '" + params.input +
+                               "' has a zero bounding-box diagonal; give --radius in model units.");
+    std::printf("points: %zu\n", n);
+    std::printf("neighbourhood: radius %s\n", std::to_string(radius).c_str());
+    std::fflush(stdout);
+
+    pcl::PointCloud<PclPoint> result;
+    std::vector<int> source_of(n, -1);  // output row of each input point, -1 = dropped by PCL
+    std::size_t flipped = 0;
+    const auto start = std::chrono::steady_clock::now();
+    {
+      Mls mls;
+      mls.setInputCloud(input);
+      mls.setSearchMethod(
+          pcl::search::KdTree<PclPoint>::Ptr(new pcl::search::KdTree<PclPoint>(false)));
+      mls.setSearchRadius(radius);
+      if (params.sqr_gauss_param > 0.0) mls.setSqrGaussParam(params.sqr_gauss_param);
+      mls.setPolynomialOrder(params.order);
+      mls.setComputeNormals(true);
+      mls.setUpsamplingMethod(Mls::NONE);
+      mls.setProjectionMethod(params.projection == "simple"       ? pcl::MLSResult::SIMPLE
+                              : params.projection == "orthogonal" ? pcl::MLSResult::ORTHOGONAL
+                                                                  : pcl::MLSResult::NONE);
+      mls.setNumberOfThreads(static_cast<unsigned int>(threads));
+      mls.process(result);
+      const pcl::PointIndicesPtr corresponding = mls.getCorrespondingIndices();
+      if (!corresponding || corresponding->indices.size() != result.size())
+        throw std::runtime_error(
+            "PCL's MLS returned " + std::to_string(result.size()) +
+            " points without a source index for each; cannot keep the input order.");
+      for (std::size_t j = 0; j < result.size(); ++j) {
+        const int i = corresponding->indices[j];
+        source_of[static_cast<std::size_t>(i)] = static_cast<int>(j);
+        if (orient) {
+          PclPoint& q = result[j];
+          const PclPoint& p = (*input)[static_cast<std::size_t>(i)];
+          if (q.normal_x * p.normal_x + q.normal_y * p.normal_y + q.normal_z * p.normal_z < 0.0f) {
+            q.normal_x = -q.normal_x;
+            q.normal_y = -q.normal_y;
+            q.normal_z = -q.normal_z;
+            ++flipped;
+          }
+        }
+      }
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    if (!orient) cloud.normals = detexture::Normals::Zero(static_cast<Eigen::Index>(n), 3);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (source_of[i] < 0) {
+        ++kept;  // PCL dropped it: too few neighbours; keep the input values.
+        continue;
+      }
+      const PclPoint& q = result[static_cast<std::size_t>(source_of[i])];
+      cloud.positions.row(static_cast<Eigen::Index>(i)) << q.x, q.y, q.z;
+      cloud.normals.row(static_cast<Eigen::Index>(i)) << q.normal_x, q.normal_y, q.normal_z;
+    }
+    detexture::WriteOptions options;
+    options.format = detexture::FileFormat::Ply;
+    options.protect_path = params.input;
+    detexture::write_point_cloud(params.output, cloud, options);
+
+    std::printf("points with fewer than 3 neighbours, kept unchanged: %zu\n", kept);
+    if (orient)
+      std::printf("normals flipped to agree with the input: %zu\n", flipped);
+    else
+      std::printf("normals: input has none; MLS normals written unoriented\n");
+    std::printf("seconds: %.6f\n", seconds);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", kProgram, e.what());
+    return 1;
+  }
+}
