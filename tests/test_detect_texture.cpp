@@ -94,3 +94,46 @@ TEST(DetectTexture, RejectsBadParameters) {
 
 }  // namespace
 }  // namespace detexture
+
+namespace detexture {
+namespace {
+
+// Eq. 2 with one plane per neighborhood marks a band along a sharp crease as
+// texture; with the second plane (our default) the crease is surface.
+TEST(DetectTexture, CreaseIsSurfaceWithSecondPlane) {
+  const auto s = test::folded_plane(61, 90.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  params.planes = 1;
+  const TextureDetection one = detect_texture(s.P, R, params);
+  params.planes = 2;
+  const TextureDetection two = detect_texture(s.P, R, params);
+  std::size_t near_crease = 0, band_one = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double d = (s.P.row(i) - Eigen::RowVector3d(0.5, s.P(i, 1), 0.0)).norm();
+    if (d < 0.03) {
+      ++near_crease;
+      band_one += one.is_texture[i];
+    }
+  }
+  EXPECT_GT(band_one, near_crease / 2) << "the paper's rule loses the crease to texture";
+  EXPECT_EQ(two.texture_points, 0u);
+}
+
+// A raised plateau parallel to the plane is texture even with two planes:
+// the second plane must meet the first at an angle.
+TEST(DetectTexture, ParallelTerraceStaysTexture) {
+  auto s = test::bumpy_plane(81, 0.0, 0.1);
+  for (int i = 0; i < s.P.rows(); ++i)
+    if (std::hypot(s.P(i, 0) - 0.5, s.P(i, 1) - 0.5) < 0.04) s.P(i, 2) = 0.02;
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  const TextureDetection det = detect_texture(s.P, R, params);
+  for (int i = 0; i < s.P.rows(); ++i)
+    if (s.P(i, 2) > 0.01) EXPECT_TRUE(det.is_texture[i]) << "point " << i;
+}
+
+}  // namespace
+}  // namespace detexture

@@ -17,13 +17,6 @@ struct Plane {
   double distance(const Eigen::Vector3d& q) const { return std::abs(normal.dot(q) - offset); }
 };
 
-std::size_t count_inliers(const std::vector<Eigen::Vector3d>& Q, const Plane& plane,
-                          double lambda) {
-  std::size_t c = 0;
-  for (const auto& q : Q) c += plane.distance(q) < lambda;
-  return c;
-}
-
 // RANSAC tries needed to draw an all-inlier triple with the given confidence
 // when a fraction w of the points are inliers.
 double tries_needed(double w, double confidence) {
@@ -31,6 +24,82 @@ double tries_needed(double w, double confidence) {
   if (all_in >= 1.0 - 1e-12) return 1.0;
   if (all_in <= 0.0) return 1e18;
   return std::log(1.0 - confidence) / std::log(1.0 - all_in);
+}
+
+// RANSAC with adaptive termination over the points Q[subset], then an
+// optional least-squares refit to the inliers. count is 0 when no
+// non-degenerate triple was found.
+struct PlaneFit {
+  Plane plane;
+  std::size_t count = 0;
+  int tries = 0;
+};
+
+Plane least_squares_plane(const std::vector<Eigen::Vector3d>& Q,
+                          const std::vector<std::uint32_t>& subset, const Plane& plane,
+                          double lambda, std::size_t count, bool* ok) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const std::uint32_t t : subset)
+    if (plane.distance(Q[t]) < lambda) mean += Q[t];
+  mean /= static_cast<double>(count);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const std::uint32_t t : subset)
+    if (plane.distance(Q[t]) < lambda) cov.noalias() += (Q[t] - mean) * (Q[t] - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Plane refined;
+  refined.normal = eig.eigenvectors().col(0);
+  refined.offset = refined.normal.dot(mean);
+  *ok = eig.eigenvalues()(1) > 0.0;
+  return refined;
+}
+
+PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std::uint32_t>& subset,
+                   double extent_sq, const DetectTextureParams& params, SplitMix64& rng) {
+  const std::uint32_t k = static_cast<std::uint32_t>(subset.size());
+  // A triple whose cross product is this small is collinear for our purposes.
+  const double min_cross = 1e-12 * extent_sq;
+  auto count_in = [&](const Plane& plane) {
+    std::size_t c = 0;
+    for (const std::uint32_t t : subset) c += plane.distance(Q[t]) < params.lambda;
+    return c;
+  };
+  PlaneFit fit;
+  double needed = params.max_iterations;
+  while (fit.tries < params.max_iterations && fit.tries < needed) {
+    ++fit.tries;
+    const std::uint32_t a = rng.below(k);
+    std::uint32_t b = rng.below(k - 1);
+    b += (b >= a);
+    std::uint32_t c = rng.below(k - 2);
+    const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
+    c += (c >= lo);
+    c += (c >= hi);
+    const Eigen::Vector3d& qa = Q[subset[a]];
+    const Eigen::Vector3d cross = (Q[subset[b]] - qa).cross(Q[subset[c]] - qa);
+    const double norm = cross.norm();
+    if (norm <= min_cross) continue;
+    Plane plane;
+    plane.normal = cross / norm;
+    plane.offset = plane.normal.dot(qa);
+    const std::size_t count = count_in(plane);
+    if (count > fit.count) {
+      fit.count = count;
+      fit.plane = plane;
+      needed = tries_needed(static_cast<double>(count) / k, params.confidence);
+    }
+  }
+  if (params.refine && fit.count >= 3) {
+    bool ok = false;
+    const Plane refined = least_squares_plane(Q, subset, fit.plane, params.lambda, fit.count, &ok);
+    if (ok) {
+      const std::size_t count = count_in(refined);
+      if (count >= fit.count) {
+        fit.plane = refined;
+        fit.count = count;
+      }
+    }
+  }
+  return fit;
 }
 
 }  // namespace
@@ -45,6 +114,15 @@ void validate(const DetectTextureParams& p) {
   if (!(p.confidence > 0.0 && p.confidence < 1.0))
     throw std::invalid_argument("the RANSAC confidence must lie in (0, 1), got " +
                                 std::to_string(p.confidence));
+  if (p.planes != 1 && p.planes != 2)
+    throw std::invalid_argument("the number of planes per neighborhood must be 1 or 2, got " +
+                                std::to_string(p.planes));
+  if (!(p.second_plane_share > 0.0 && p.second_plane_share < 1.0))
+    throw std::invalid_argument("the second plane's share must lie in (0, 1), got " +
+                                std::to_string(p.second_plane_share));
+  if (!(p.second_plane_angle_deg > 0.0 && p.second_plane_angle_deg <= 90.0))
+    throw std::invalid_argument("the second plane's angle must lie in (0, 90] degrees, got " +
+                                std::to_string(p.second_plane_angle_deg));
   if (p.max_iterations < 1)
     throw std::invalid_argument("the RANSAC iteration cap must be at least 1, got " +
                                 std::to_string(p.max_iterations));
@@ -64,10 +142,13 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   std::size_t no_plane = 0;
   double total_tries = 0.0;
   ProgressCounter counter(progress, n);
+  const double cos_second_angle = std::cos(params.second_plane_angle_deg * M_PI / 180.0);
 
 #pragma omp parallel reduction(+ : no_plane, total_tries)
   {
-    std::vector<Eigen::Vector3d> Q;  // neighbors, relative to p_i
+    std::vector<Eigen::Vector3d> Q;     // neighbors, relative to p_i
+    std::vector<std::uint32_t> subset;  // candidates of the plane being fitted
+    std::vector<std::uint8_t> inlier;   // per neighbor: fits one of the planes
 #pragma omp for schedule(dynamic, 256)
     for (std::size_t i = 0; i < n; ++i) {
       if ((i & 1023) == 1023) counter.advance(1024);
@@ -84,61 +165,36 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         Q[t] = P.row(nb[t]).transpose() - center;
         extent_sq = std::max(extent_sq, Q[t].squaredNorm());
       }
-      // A triple whose cross product is this small is collinear for our purposes.
-      const double min_cross = 1e-12 * extent_sq;
-
       SplitMix64 rng(params.seed, i);
-      Plane best;
-      std::size_t best_count = 0;
-      double needed = params.max_iterations;
-      int tries = 0;
-      while (tries < params.max_iterations && tries < needed) {
-        ++tries;
-        const std::uint32_t a = rng.below(k);
-        std::uint32_t b = rng.below(k - 1);
-        b += (b >= a);
-        std::uint32_t c = rng.below(k - 2);
-        const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
-        c += (c >= lo);
-        c += (c >= hi);
-        const Eigen::Vector3d cross = (Q[b] - Q[a]).cross(Q[c] - Q[a]);
-        const double norm = cross.norm();
-        if (norm <= min_cross) continue;
-        Plane plane;
-        plane.normal = cross / norm;
-        plane.offset = plane.normal.dot(Q[a]);
-        const std::size_t count = count_inliers(Q, plane, params.lambda);
-        if (count > best_count) {
-          best_count = count;
-          best = plane;
-          needed = tries_needed(static_cast<double>(count) / k, params.confidence);
-        }
-      }
-      total_tries += tries;
-      if (best_count == 0) {
+      subset.resize(k);
+      for (std::uint32_t t = 0; t < k; ++t) subset[t] = t;
+      const PlaneFit first = fit_plane(Q, subset, extent_sq, params, rng);
+      total_tries += first.tries;
+      if (first.count == 0) {
         ++no_plane;
         continue;
       }
-      if (params.refine && best_count >= 3) {
-        // Least-squares plane through the inliers of the best plane.
-        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-        for (const auto& q : Q)
-          if (best.distance(q) < params.lambda) mean += q;
-        mean /= static_cast<double>(best_count);
-        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-        for (const auto& q : Q)
-          if (best.distance(q) < params.lambda)
-            cov.noalias() += (q - mean) * (q - mean).transpose();
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-        Plane refined;
-        refined.normal = eig.eigenvectors().col(0);
-        refined.offset = refined.normal.dot(mean);
-        if (eig.eigenvalues()(1) > 0.0 && count_inliers(Q, refined, params.lambda) >= best_count)
-          best = refined;
+      inlier.assign(k, 0);
+      subset.clear();
+      for (std::uint32_t t = 0; t < k; ++t) {
+        inlier[t] = first.plane.distance(Q[t]) < params.lambda;
+        if (!inlier[t]) subset.push_back(t);
+      }
+      // A second plane at an angle to the first, with a real share of the
+      // neighborhood, is the other side of a crease: its points are surface.
+      const double min_second = params.second_plane_share * k;
+      if (params.planes == 2 && subset.size() >= std::max(3.0, min_second)) {
+        const PlaneFit second = fit_plane(Q, subset, extent_sq, params, rng);
+        total_tries += second.tries;
+        if (second.count >= min_second &&
+            std::abs(second.plane.normal.dot(first.plane.normal)) < cos_second_angle) {
+          for (const std::uint32_t t : subset)
+            inlier[t] = second.plane.distance(Q[t]) < params.lambda;
+        }
       }
       for (std::uint32_t t = 0; t < k; ++t) {
         const std::uint32_t j = nb[t];
-        if (best.distance(Q[t]) < params.lambda) {
+        if (inlier[t]) {
 #pragma omp atomic
           ++T[j];
         }

@@ -5,6 +5,17 @@
 // plane and contain it; it is underlying surface iff T_j > δ·N_j (Eq. 2),
 // texture otherwise. The non-texture points of R_i form the sub-neighborhood
 // Ω_i used by the Gaussian filter (Eq. 1).
+//
+// One plane per neighborhood, as in the paper, marks a band of width ~r on
+// both sides of every sharp edge as texture: near an edge, the neighborhoods
+// centred across it fit the other face and count the point as an outlier.
+// The filters then never see the faces' own normals next to the edge, and
+// the rolling filter recovers the edge late and off its place. By default we
+// therefore fit a second plane to the outliers of the first: when it carries
+// a real share of the neighborhood and meets the first at a clear angle, it is
+// the other face of a crease, and its inliers count too. Texture relief is
+// curved, so a plane through it finds only a thin band of support and is
+// rejected. `planes = 1` is the paper's rule.
 #pragma once
 
 #include <cstdint>
@@ -27,7 +38,15 @@ struct DetectTextureParams {
   /// Probability that the best plane of a neighborhood has been found when
   /// RANSAC stops early, in (0, 1).
   double confidence = 0.99;
-  /// Cap on RANSAC tries per neighborhood, ≥ 1.
+  /// Planes fitted per neighborhood: 1 (the paper) or 2 (a second face across
+  /// a crease also counts as surface; see above).
+  int planes = 2;
+  /// Second plane: least share of the neighborhood it must fit, in (0, 1).
+  double second_plane_share = 0.2;
+  /// Second plane: least angle to the first, in degrees, in (0, 90]; parallel
+  /// terraces (raised plateaus) stay texture.
+  double second_plane_angle_deg = 20.0;
+  /// Cap on RANSAC tries per plane, ≥ 1.
   int max_iterations = 100;
   /// Refit the best plane to its inliers by least squares before the final
   /// inlier count (not in the paper; steadier classification).
