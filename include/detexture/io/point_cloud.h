@@ -12,7 +12,16 @@ namespace detexture {
 
 /// Scalar types of the PLY format. Values are held as double, which is exact
 /// for every one of them.
-enum class ScalarType : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+enum class ScalarType : std::uint8_t {
+  Int8,
+  UInt8,
+  Int16,
+  UInt16,
+  Int32,
+  UInt32,
+  Float32,
+  Float64
+};
 
 /// Name used when writing a PLY header ("char", "uchar", ..., "double").
 const char* ply_type_name(ScalarType type);
@@ -45,11 +54,12 @@ struct OtherElement {
 };
 
 struct PointCloud {
-  Positions positions;               ///< #P by 3
-  Normals normals;                   ///< #P by 3, or 0 rows when the file had none
-  std::vector<PointProperty> extras; ///< other per-vertex properties, in file order
+  Positions positions;                       ///< #P by 3
+  Normals normals;                           ///< #P by 3, or 0 rows when the file had none
+  std::vector<PointProperty> extras;         ///< other per-vertex properties, in file order
   std::vector<OtherElement> other_elements;  ///< non-vertex elements, in file order
-  std::vector<std::string> comments;         ///< PLY comment lines, without "comment "
+  /// PLY comment lines without "comment "; obj_info lines as "obj_info ...".
+  std::vector<std::string> comments;
 
   std::size_t size() const { return static_cast<std::size_t>(positions.rows()); }
   bool has_normals() const { return normals.rows() == positions.rows() && normals.rows() > 0; }

@@ -1,5 +1,23 @@
 // Reading point clouds: PLY (ascii, binary little/big endian) and XYZ-style
-// text (.xyz .xyzn .txt .pts).
+// text (.xyz .xyzn .txt .pts .csv).
+//
+// PLY: every scalar type in both spellings (char/int8 ... double/float64).
+// The "vertex" element needs x, y, z (any type); nx, ny, nz become normals
+// when all three are present (otherwise they are kept as extras). Every other
+// scalar vertex property goes to PointCloud::extras in its original type;
+// list properties of the vertex element are skipped with a notice. Other
+// elements (faces, edges, ...) go to PointCloud::other_elements, comment and
+// obj_info lines to PointCloud::comments ("obj_info ..." kept whole). Ascii
+// rows are one per line; CRLF line endings are accepted. Bytes after the last
+// element of a binary file are ignored with a notice; in an ascii file any
+// further non-blank line is an error.
+//
+// XYZ: one point per line, "x y z" or "x y z nx ny nz ...", values separated
+// by blanks or by commas (an empty field "1,,2" is an error). '#' starts a
+// comment; blank lines are ignored. A first line holding a single integer is
+// a .pts point count and must match the number of rows. Every row must have
+// the same number of columns: 3, or at least 6. Columns after the sixth are
+// kept as float64 extras named field6, field7, ... (0-based column index).
 #pragma once
 
 #include <string>
@@ -21,8 +39,10 @@ FileFormat parse_file_format(const std::string& name);
 FileFormat format_from_extension(const std::string& path);
 
 struct ReadReport {
-  std::size_t zero_length_normals = 0;  ///< input normals of zero length (re-estimated later)
-  std::vector<std::string> notices;     ///< human-readable notes (skipped elements, ...)
+  /// Input normals of zero length, or with a NaN or Inf component: set to
+  /// (0,0,0) and counted, to be re-estimated later.
+  std::size_t zero_length_normals = 0;
+  std::vector<std::string> notices;  ///< human-readable notes (skipped elements, ...)
 };
 
 /// Read a point cloud. Throws std::runtime_error whose message names the file
@@ -32,8 +52,11 @@ struct ReadReport {
 /// coordinates, missing x/y/z, an empty cloud, or an unknown format.
 /// Points with NaN or Inf coordinates are refused, not dropped: dropping would
 /// silently break the correspondence with faces and with other files.
-/// Input normals are normalized; zero-length ones stay (0,0,0), are counted
-/// in the report, and are re-estimated by the pipeline (orient_normals.h).
+/// Input normals are normalized; zero-length ones, and ones with a NaN or Inf
+/// component, become (0,0,0), are counted in the report, and are re-estimated
+/// by the pipeline (orient_normals.h). A declared count is checked against
+/// the file size before anything is allocated for it. format Auto: from the
+/// extension (format_from_extension).
 PointCloud read_point_cloud(const std::string& path, FileFormat format = FileFormat::Auto,
                             ReadReport* report = nullptr);
 
