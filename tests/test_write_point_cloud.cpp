@@ -29,9 +29,12 @@ class WriteTempDir {
  public:
   WriteTempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info->name();  // "Test/Param" for parameterized tests
+    for (char& c : name)
+      if (c == '/') c = '_';
     std::random_device device;
-    path_ = fs::temp_directory_path() /
-            ("detexture_write_" + std::string(info->name()) + "_" + std::to_string(device()));
+    path_ =
+        fs::temp_directory_path() / ("detexture_write_" + name + "_" + std::to_string(device()));
     fs::create_directories(path_);
   }
   ~WriteTempDir() {
