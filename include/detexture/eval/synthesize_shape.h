@@ -1,0 +1,131 @@
+// Synthetic textured point clouds whose underlying surface is known exactly:
+// the ground truth for measuring texture removal (the paper's Table 3 needs
+// one, and real scans with a known underlying shape are rare).
+//
+// A base shape B (sphere, cube, ...) carries a height field h: the textured
+// surface is p = b + h(b) n(b) for b on B, with n the outward unit normal of
+// B. Points are sampled uniformly by area on B and then displaced, so the
+// density is that of the base surface (like a scanner looking along n).
+// Every sample keeps its exact h, its exact normal and its base point b.
+//
+// Sharp edges (cube, pyramid, the rims of the cylinder) and the border of the
+// plane patch split the base into patches. Each feature belongs to one patch
+// and h = 0 within `size` of every patch border, so next to an edge the
+// textured surface coincides with B and the underlying surface is well
+// defined. docs/synth_and_compare.md gives every formula.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "detexture/types.h"
+
+namespace detexture {
+
+/// Base shapes, all centered at the origin and fitting the box [-0.5, 0.5]^3.
+enum class BaseShape : std::uint8_t {
+  Sphere,    ///< radius 0.5
+  Cube,      ///< side 1, axis-aligned; 6 patches
+  Cylinder,  ///< radius 0.5, height 1 along z, closed by two flat caps; 3 patches
+  Torus,     ///< major radius 0.35, tube radius 0.15, around the z axis
+  Pyramid,   ///< square base of side 1 at z = -0.5, apex (0, 0, 0.5); 5 patches
+  Plane,     ///< the square [-0.5, 0.5]^2 at z = 0, normal +z
+};
+
+/// Height fields. A is `amplitude`, R is `size`; d is the 3D distance from b
+/// to a feature center; u = k.b with k = (1, 2, 3)/sqrt(14) for the line
+/// textures.
+enum class TextureKind : std::uint8_t {
+  None,        ///< h = 0: the clean base shape
+  Bumps,       ///< A exp(-2 s) (1 - s)^2, s = d^2/R^2 < 1: a Gaussian cut off smoothly at R
+  Domes,       ///< A sqrt(1 - s): hemispheres of radius R when A = R (ellipsoidal caps otherwise)
+  Scales,      ///< Voronoi cells rising as A (1 - (1 - t)^2) with the distance t to the cell border
+  Waves,       ///< parallel ridges A (1 + cos(pi v/R))/2, |v| < R: a sinusoid when dense
+  VGrooves,    ///< parallel grooves -A (1 - |v|/R), |v| < R
+  UGrooves,    ///< parallel grooves -A sqrt(1 - (v/R)^2), |v| < R
+  MultiScale,  ///< Bumps of (R, A) plus Bumps of (R/3, A/3) placed independently; heights add
+};
+
+/// How densely features cover the surface.
+enum class TextureLayout : std::uint8_t {
+  Sparse,  ///< separated features: bump centers >= 3R apart, ridge period 4R, scale channels R wide
+  Dense,   ///< touching features: bump centers >= 2R apart, ridge period 2R, no channels
+};
+
+/// Parse the command-line names ("sphere", "v-grooves", "dense", ...); throw
+/// std::invalid_argument listing the valid names for anything else.
+BaseShape parse_base_shape(const std::string& name);
+TextureKind parse_texture_kind(const std::string& name);
+TextureLayout parse_texture_layout(const std::string& name);
+const char* base_shape_name(BaseShape shape);
+const char* texture_kind_name(TextureKind texture);
+const char* texture_layout_name(TextureLayout layout);
+
+struct SynthParams {
+  BaseShape shape = BaseShape::Cube;
+  TextureKind texture = TextureKind::Bumps;
+  TextureLayout layout = TextureLayout::Sparse;
+  /// R: feature radius (bumps, domes), ridge or groove half-width, or scale
+  /// cell radius, in model units (the base fits a unit box); [0.005, 0.1].
+  /// Also the margin kept free of texture along edges and borders.
+  double size = 0.05;
+  /// A: peak height along the outward normal, in model units; |A| <= size
+  /// (multiscale heights add up to 4A/3).
+  /// Negative values press the texture into the surface (grooves with A < 0
+  /// become ridges).
+  double amplitude = 0.02;
+  /// Give each feature (bump, cell, ridge, groove) a random sign, so the
+  /// surface has bumps up and down (the paper's "BUDs").
+  bool mixed_signs = false;
+  std::int64_t points = 100000;               ///< textured samples; [1, 2^31)
+  std::int64_t ground_truth_points = 200000;  ///< samples of the clean base surface; [1, 2^31)
+  /// Standard deviation of Gaussian noise added to each coordinate of the
+  /// textured positions (normals and heights stay noise-free), as a fraction
+  /// of the base shape's bounding-box diagonal (or absolute, see below);
+  /// [0, 0.1] as a fraction, >= 0 when absolute.
+  double noise = 0.0;
+  bool noise_absolute = false;  ///< read `noise` in model units instead
+  std::uint64_t seed = 1;       ///< same seed, same cloud, on any thread count
+};
+
+/// |h| above which a sample counts as texture, in model units.
+constexpr double kTextureHeightEpsilon = 1e-13;
+
+struct SynthesizedShape {
+  Positions positions;  ///< #P by 3 textured samples b + h n (+ noise)
+  /// #P by 3 exact unit normals of the textured surface at b + h n, from the
+  /// first fundamental form of the displaced surface (docs), noise-free.
+  Normals normals;
+  std::vector<double> texture_heights;   ///< #P signed heights h(b)
+  std::vector<std::uint8_t> is_texture;  ///< #P: 1 where |h| > kTextureHeightEpsilon
+  Positions base_positions;              ///< #P by 3 base points b (on the analytic shape)
+  Normals base_normals;                  ///< #P by 3 outward normals of the base at b
+  Positions ground_truth_positions;      ///< #G by 3 samples of the clean base surface
+  Normals ground_truth_normals;          ///< #G by 3 their outward normals
+  std::size_t feature_count = 0;         ///< bumps, domes or cells placed (0 for line textures)
+  double diagonal = 0.0;                 ///< bounding-box diagonal of the base shape
+  double noise_sigma = 0.0;              ///< the noise standard deviation used, in model units
+};
+
+/// Throw std::invalid_argument with a sentence naming the parameter, its
+/// value and its valid range when params are out of range.
+void validate_synth_params(const SynthParams& params);
+
+/// Sample the textured shape and its ground truth. Validates params first.
+SynthesizedShape synthesize_shape(const SynthParams& params);
+
+struct TexturedSamples {
+  Positions positions;          ///< #B by 3 b + h(b) n(b)
+  Normals normals;              ///< #B by 3 exact normals of the textured surface
+  std::vector<double> heights;  ///< #B heights h(b)
+};
+
+/// Evaluate the textured surface of params at points B (#B by 3) lying on the
+/// base shape (within ~1e-9; each is assigned to the patch it lies on). The
+/// features are those synthesize_shape(params) places, so this reproduces
+/// its samples; it exists to test normals against finite differences and to
+/// probe the surface anywhere.
+TexturedSamples evaluate_texture(const SynthParams& params, const Positions& B);
+
+}  // namespace detexture
