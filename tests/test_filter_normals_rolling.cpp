@@ -67,3 +67,46 @@ TEST(FilterNormalsRolling, RejectsBadParameters) {
 
 }  // namespace
 }  // namespace detexture
+
+#include "detexture/pipeline/estimate_curvature.h"
+
+namespace detexture {
+namespace {
+
+// C_i ≈ |H|: 1/R on a sphere of radius R, 0 on a plane.
+TEST(EstimateCurvature, SphereAndPlane) {
+  const auto sphere = test::fibonacci_sphere(20000, 0.5);
+  const Neighborhoods R = radius_neighborhoods(sphere.P, {0.05, 0});
+  const Eigen::VectorXd C = estimate_curvature(sphere.P, sphere.N, R);
+  EXPECT_NEAR(C.minCoeff(), 2.0, 1e-6);
+  EXPECT_NEAR(C.maxCoeff(), 2.0, 1e-6);
+  const auto plane = test::bumpy_plane(21, 0.0, 0.1);
+  const Neighborhoods Rp = radius_neighborhoods(plane.P, {0.12, 0});
+  EXPECT_EQ(estimate_curvature(plane.P, plane.N, Rp).maxCoeff(), 0.0);
+}
+
+// Patch shift (Eq. 6) on a crease: a point beside the crease takes the normal
+// of a flat neighbor on its own side, never the other face's.
+TEST(GuidanceNormals, PatchShiftPicksFlatNeighborOnOwnSide) {
+  const auto s = test::folded_plane(41, 90.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  // A blurred field: each normal averaged over R_i.
+  Normals blurred(s.P.rows(), 3);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (auto j = R.begin(i); j != R.end(i); ++j) sum += s.N.row(*j);
+    blurred.row(i) = sum.normalized();
+  }
+  GuidanceNormalsParams gp;
+  gp.blend = false;
+  const Normals G = guidance_normals(s.P, blurred, R, gp);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double d = (s.P.row(i) - Eigen::RowVector3d(0.5, s.P(i, 1), 0.0)).norm();
+    if (d < 0.02 || d > 0.08) continue;
+    EXPECT_LT(test::angle_deg(G.row(i), s.N.row(i)), test::angle_deg(blurred.row(i), s.N.row(i)))
+        << "point " << i;
+  }
+}
+
+}  // namespace
+}  // namespace detexture

@@ -39,25 +39,39 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
   RollingFilterResult out;
   out.normals = initial;
   Normals next(static_cast<Eigen::Index>(n), 3);
+  const double* p = P.data();
+  const double* nin = input.data();
+  const std::uint8_t* texture = sub ? is_texture.data() : nullptr;
   for (int k = 0; k < params.iterations; ++k) {
     const Normals G = guidance_normals(P, out.normals, R, params.guidance);
+    const double* g = G.data();
     double change = 0.0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : change)
+#pragma omp parallel for schedule(dynamic, 512) reduction(+ : change)
     for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::RowVector3d pi = P.row(i), gi = G.row(i);
-      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+      const double px = p[3 * i], py = p[3 * i + 1], pz = p[3 * i + 2];
+      const double gx = g[3 * i], gy = g[3 * i + 1], gz = g[3 * i + 2];
+      double sx = 0.0, sy = 0.0, sz = 0.0;
       bool any = false;
-      for (int pass = sub ? 0 : 1; pass < 2 && !any; ++pass) {
-        for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
-          if (pass == 0 && is_texture[*j]) continue;
-          const double w = std::exp(-(P.row(*j) - pi).squaredNorm() * inv_two_sigma_s_sq -
-                                    (G.row(*j) - gi).squaredNorm() * inv_two_chord_sq);
-          sum += w * input.row(*j);
+      // Pass 0 sums over Ω_i; pass 1, over R_i (the paper, or an empty Ω_i).
+      for (int pass = texture ? 0 : 1; pass < 2 && !any; ++pass) {
+        for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
+          const std::size_t j = *it;
+          if (pass == 0 && texture[j]) continue;
+          const double dx = p[3 * j] - px, dy = p[3 * j + 1] - py, dz = p[3 * j + 2] - pz;
+          const double ex = g[3 * j] - gx, ey = g[3 * j + 1] - gy, ez = g[3 * j + 2] - gz;
+          const double w = std::exp(-(dx * dx + dy * dy + dz * dz) * inv_two_sigma_s_sq -
+                                    (ex * ex + ey * ey + ez * ez) * inv_two_chord_sq);
+          sx += w * nin[3 * j];
+          sy += w * nin[3 * j + 1];
+          sz += w * nin[3 * j + 2];
           any = true;
         }
       }
-      const double norm = sum.norm();
-      next.row(i) = norm > 1e-12 ? Eigen::RowVector3d(sum / norm) : out.normals.row(i);
+      const double norm = std::sqrt(sx * sx + sy * sy + sz * sz);
+      if (norm > 1e-12)
+        next.row(i) << sx / norm, sy / norm, sz / norm;
+      else
+        next.row(i) = out.normals.row(i);
       change += std::acos(std::clamp(next.row(i).dot(out.normals.row(i)), -1.0, 1.0));
     }
     out.normals.swap(next);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "detexture/pipeline/estimate_curvature.h"
 
@@ -11,47 +12,52 @@ Normals guidance_normals(const Positions& P, const Normals& current, const Neigh
                          const GuidanceNormalsParams& params) {
   if (params.mode == GuidanceMode::Plain) return current;
   const std::size_t n = R.size();
+  const double* nc = current.data();
+  const bool angle = params.difference == NormalDifference::Angle;
+
+  // Eqs. 4-5: reliability R(p_i) = max_j D(p_ij)·C(p_i); D grows as n_i·n_j falls.
   const Eigen::VectorXd C = estimate_curvature(P, current, R);
-
-  // Eqs. 4-5: reliability of every point's patch.
-  Eigen::VectorXd reliability(static_cast<Eigen::Index>(n));
-#pragma omp parallel for schedule(dynamic, 256)
+  std::vector<double> reliability(n);
+#pragma omp parallel for schedule(dynamic, 512)
   for (std::size_t i = 0; i < n; ++i) {
+    const double nx = nc[3 * i], ny = nc[3 * i + 1], nz = nc[3 * i + 2];
     double min_cos = 1.0;
-    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j)
-      min_cos = std::min(min_cos, current.row(i).dot(current.row(*j)));
+    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
+      const double* nj = nc + 3 * *it;
+      min_cos = std::min(min_cos, nx * nj[0] + ny * nj[1] + nz * nj[2]);
+    }
     min_cos = std::clamp(min_cos, -1.0, 1.0);
-    const double D =
-        params.difference == NormalDifference::Angle ? std::acos(min_cos) : 1.0 - min_cos;
-    reliability(static_cast<Eigen::Index>(i)) = D * C(static_cast<Eigen::Index>(i));
+    reliability[i] = (angle ? std::acos(min_cos) : 1.0 - min_cos) * C(static_cast<Eigen::Index>(i));
   }
 
-  // Eq. 8's σc: the mean of the neighborhood curvature sums.
-  Eigen::VectorXd curvature_sum(static_cast<Eigen::Index>(n));
-#pragma omp parallel for schedule(dynamic, 256)
+  // Pass 2, Eq. 6: the most reliable neighbor; and Eq. 8's sums Σ_j C(p_j).
+  std::vector<std::uint32_t> best(n);
+  std::vector<double> curvature_sum(n);
+#pragma omp parallel for schedule(dynamic, 512)
   for (std::size_t i = 0; i < n; ++i) {
-    double s = 0.0;
-    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) s += C(*j);
-    curvature_sum(static_cast<Eigen::Index>(i)) = s;
-  }
-  const double sigma_c = n ? curvature_sum.sum() / static_cast<double>(n) : 0.0;
-
-  Normals G(static_cast<Eigen::Index>(n), 3);
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::size_t i = 0; i < n; ++i) {
-    // Eq. 6: the normal of the most reliable neighbor.
-    std::uint32_t best = static_cast<std::uint32_t>(i);
-    double best_r = reliability(static_cast<Eigen::Index>(i));
-    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
-      if (reliability(*j) < best_r) {
-        best_r = reliability(*j);
-        best = *j;
+    std::uint32_t b = static_cast<std::uint32_t>(i);
+    double best_r = reliability[i], s = 0.0;
+    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
+      s += C(*it);
+      if (reliability[*it] < best_r) {  // ties go to the nearer neighbor
+        best_r = reliability[*it];
+        b = *it;
       }
     }
-    Eigen::RowVector3d g = current.row(best);
+    best[i] = b;
+    curvature_sum[i] = s;
+  }
+  double total = 0.0;
+  for (double s : curvature_sum) total += s;
+  const double sigma_c = n ? total / static_cast<double>(n) : 0.0;
+
+  // Eq. 7: blend toward the current normal where the surroundings are curved.
+  Normals G(static_cast<Eigen::Index>(n), 3);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::RowVector3d g = current.row(best[i]);
     if (params.blend && sigma_c > 0.0) {
-      // Eqs. 7-8.
-      const double alpha = std::exp(-curvature_sum(static_cast<Eigen::Index>(i)) / sigma_c);
+      const double alpha = std::exp(-curvature_sum[i] / sigma_c);  // Eq. 8
       g = alpha * g + (1.0 - alpha) * current.row(i);
     }
     const double norm = g.norm();
