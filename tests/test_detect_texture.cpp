@@ -137,3 +137,35 @@ TEST(DetectTexture, ParallelTerraceStaysTexture) {
 
 }  // namespace
 }  // namespace detexture
+
+namespace detexture {
+namespace {
+
+// Three faces meeting at a corner of a box: with three planes per
+// neighborhood nothing is texture; with two, points near the corner are.
+TEST(DetectTexture, CornerIsSurfaceWithThreePlanes) {
+  const int side = 40;
+  Positions P(3 * side * side, 3);
+  int i = 0;
+  for (int face = 0; face < 3; ++face)
+    for (int a = 0; a < side; ++a)
+      for (int b = 0; b < side; ++b) {
+        Eigen::RowVector3d q;
+        q(face) = 0.0;
+        q((face + 1) % 3) = (a + 0.5) / side;
+        q((face + 2) % 3) = (b + 0.5) / side;
+        P.row(i++) = q;
+      }
+  const Neighborhoods R = radius_neighborhoods(P, {0.12, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  params.planes = 2;
+  const TextureDetection two = detect_texture(P, R, params);
+  params.planes = 3;
+  const TextureDetection three = detect_texture(P, R, params);
+  EXPECT_GT(two.texture_points, 10u);
+  EXPECT_EQ(three.texture_points, 0u);
+}
+
+}  // namespace
+}  // namespace detexture

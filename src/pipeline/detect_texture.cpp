@@ -114,8 +114,8 @@ void validate(const DetectTextureParams& p) {
   if (!(p.confidence > 0.0 && p.confidence < 1.0))
     throw std::invalid_argument("the RANSAC confidence must lie in (0, 1), got " +
                                 std::to_string(p.confidence));
-  if (p.planes != 1 && p.planes != 2)
-    throw std::invalid_argument("the number of planes per neighborhood must be 1 or 2, got " +
+  if (p.planes < 1 || p.planes > 3)
+    throw std::invalid_argument("the number of planes per neighborhood must be 1, 2 or 3, got " +
                                 std::to_string(p.planes));
   if (!(p.second_plane_share > 0.0 && p.second_plane_share < 1.0))
     throw std::invalid_argument("the second plane's share must lie in (0, 1), got " +
@@ -180,17 +180,26 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         inlier[t] = first.plane.distance(Q[t]) < params.lambda;
         if (!inlier[t]) subset.push_back(t);
       }
-      // A second plane at an angle to the first, with a real share of the
-      // neighborhood, is the other side of a crease: its points are surface.
-      const double min_second = params.second_plane_share * k;
-      if (params.planes == 2 && subset.size() >= std::max(3.0, min_second)) {
-        const PlaneFit second = fit_plane(Q, subset, extent_sq, params, rng);
-        total_tries += second.tries;
-        if (second.count >= min_second &&
-            std::abs(second.plane.normal.dot(first.plane.normal)) < cos_second_angle) {
-          for (const std::uint32_t t : subset)
-            inlier[t] = second.plane.distance(Q[t]) < params.lambda;
+      // Further planes at an angle to every earlier one, each with a real
+      // share of the neighborhood, are the other faces of a crease or corner:
+      // their points are surface.
+      const double min_share = params.second_plane_share * k;
+      Eigen::Vector3d normals_found[3] = {first.plane.normal};
+      for (int plane = 1; plane < params.planes; ++plane) {
+        if (subset.size() < std::max(3.0, min_share)) break;
+        const PlaneFit next = fit_plane(Q, subset, extent_sq, params, rng);
+        total_tries += next.tries;
+        bool at_angle = next.count >= min_share;
+        for (int e = 0; e < plane && at_angle; ++e)
+          at_angle = std::abs(next.plane.normal.dot(normals_found[e])) < cos_second_angle;
+        if (!at_angle) break;
+        normals_found[plane] = next.plane.normal;
+        std::size_t kept = 0;
+        for (const std::uint32_t t : subset) {
+          inlier[t] = next.plane.distance(Q[t]) < params.lambda;
+          if (!inlier[t]) subset[kept++] = t;
         }
+        subset.resize(kept);
       }
       for (std::uint32_t t = 0; t < k; ++t) {
         const std::uint32_t j = nb[t];

@@ -13,7 +13,8 @@
 // the rolling filter recovers the edge late and off its place. By default we
 // therefore fit a second plane to the outliers of the first: when it carries
 // a real share of the neighborhood and meets the first at a clear angle, it is
-// the other face of a crease, and its inliers count too. Texture relief is
+// the other face of a crease, and its inliers count too (a third plane does
+// the same at corners). Texture relief is
 // curved, so a plane through it finds only a thin band of support and is
 // rejected. `planes = 1` is the paper's rule.
 #pragma once
@@ -38,13 +39,14 @@ struct DetectTextureParams {
   /// Probability that the best plane of a neighborhood has been found when
   /// RANSAC stops early, in (0, 1).
   double confidence = 0.99;
-  /// Planes fitted per neighborhood: 1 (the paper) or 2 (a second face across
-  /// a crease also counts as surface; see above).
-  int planes = 2;
-  /// Second plane: least share of the neighborhood it must fit, in (0, 1).
-  double second_plane_share = 0.2;
-  /// Second plane: least angle to the first, in degrees, in (0, 90]; parallel
-  /// terraces (raised plateaus) stay texture.
+  /// Planes fitted per neighborhood: 1 (the paper), 2 (a second face across
+  /// a crease also counts as surface; see above) or 3 (and a third at a
+  /// corner). Each further plane is fitted to the outliers of the earlier ones.
+  int planes = 3;
+  /// Further planes: least share of the neighborhood each must fit, in (0, 1).
+  double second_plane_share = 0.15;
+  /// Further planes: least angle to every earlier plane, in degrees, in (0,
+  /// 90]; parallel terraces (raised plateaus) stay texture.
   double second_plane_angle_deg = 20.0;
   /// Cap on RANSAC tries per plane, ≥ 1.
   int max_iterations = 100;
