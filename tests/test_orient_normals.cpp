@@ -1,0 +1,291 @@
+#include "detexture/geometry/orient_normals.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "detexture/geometry/estimate_normals.h"
+
+namespace detexture {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Nearly uniform points on a sphere (Fibonacci lattice).
+Positions fibonacci_sphere(int n, double radius, const Eigen::RowVector3d& center) {
+  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
+  Positions P(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1.0 - z * z);
+    P.row(i) = center + radius * Eigen::RowVector3d(r * std::cos(i * golden_angle),
+                                                    r * std::sin(i * golden_angle), z);
+  }
+  return P;
+}
+
+// The six faces of the cube [-0.5, 0.5]^3, each sampled at the centers of an
+// m by m grid; face_normal receives the outward normal of each point's face.
+Positions cube_faces(int m, Normals* face_normal) {
+  Positions P(6 * m * m, 3);
+  face_normal->resize(P.rows(), 3);
+  int row = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2)
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+          Eigen::RowVector3d p, n = Eigen::RowVector3d::Zero();
+          p(axis) = 0.5 * side;
+          p((axis + 1) % 3) = (a + 0.5) / m - 0.5;
+          p((axis + 2) % 3) = (b + 0.5) / m - 0.5;
+          n(axis) = side;
+          P.row(row) = p;
+          face_normal->row(row++) = n;
+        }
+  return P;
+}
+
+// Each normal negated with probability 1/2.
+Normals random_signs(const Normals& normals, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::bernoulli_distribution flip(0.5);
+  Normals result = normals;
+  for (int i = 0; i < result.rows(); ++i)
+    if (flip(rng)) result.row(i) *= -1.0;
+  return result;
+}
+
+// Exactly round(fraction * #normals) normals negated, chosen at random.
+Normals flip_fraction(const Normals& normals, double fraction, unsigned seed) {
+  std::vector<int> order(normals.rows());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+  Normals result = normals;
+  const int count = static_cast<int>(std::lround(fraction * normals.rows()));
+  for (int i = 0; i < count; ++i) result.row(order[i]) *= -1.0;
+  return result;
+}
+
+std::size_t count_facing_inward(const Positions& P, const Normals& normals,
+                                const Eigen::RowVector3d& center) {
+  std::size_t inward = 0;
+  for (int i = 0; i < P.rows(); ++i)
+    if (normals.row(i).dot(P.row(i) - center) < 0.0) ++inward;
+  return inward;
+}
+
+TEST(OrientNormals, SphereFacesOutward) {
+  const Eigen::RowVector3d center(1.0, 2.0, 3.0);
+  const Positions P = fibonacci_sphere(10000, 2.0, center);
+  const Normals unoriented =
+      random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 11);
+  const OrientNormalsResult r = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.cross_sheet_edges, 0u);
+  EXPECT_EQ(r.flipped, count_facing_inward(P, unoriented, center));
+  EXPECT_EQ(count_facing_inward(P, r.normals, center), 0u);
+}
+
+TEST(OrientNormals, TorusFacesAwayFromItsCoreCircle) {
+  // Torus around the z axis: core circle of radius 1, tube radius 0.3,
+  // sampled on a jittered (u, v) grid; outward = away from the core circle.
+  const double R = 1.0, r = 0.3;
+  const int nu = 240, nv = 60;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  Positions P(nu * nv, 3);
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * kPi * (i + jitter(rng)) / nu, v = 2 * kPi * (j + jitter(rng)) / nv;
+      P.row(i * nv + j) << (R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+          r * std::sin(v);
+    }
+  const Normals unoriented =
+      random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 17);
+  const OrientNormalsResult result = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
+  EXPECT_EQ(result.components, 1u);
+  std::size_t inward = 0;
+  for (int i = 0; i < P.rows(); ++i) {
+    Eigen::RowVector3d core(P(i, 0), P(i, 1), 0.0);
+    core *= R / core.norm();
+    if (result.normals.row(i).dot(P.row(i) - core) <= 0.0) ++inward;
+  }
+  EXPECT_EQ(inward, 0u);
+}
+
+// With exact face normals, neighbors across a cube edge are perpendicular:
+// n_i . n_j = 0 says nothing, but the normals projected across the chord do.
+TEST(OrientNormals, CubeWithExactFaceNormalsFacesOutward) {
+  Normals face_normal;
+  const Positions P = cube_faces(20, &face_normal);
+  const OrientNormalsResult r =
+      orient_normals(P, random_signs(face_normal, 19), knn_neighborhoods(P, 10));
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.cross_sheet_edges, 0u);
+  EXPECT_TRUE(r.normals == face_normal);
+}
+
+TEST(OrientNormals, CubeWithPcaNormalsFacesOutward) {
+  Normals face_normal;
+  const Positions P = cube_faces(20, &face_normal);
+  const EstimateNormalsResult e = estimate_normals(P, radius_neighborhoods(P, {0.08, 0}));
+  ASSERT_EQ(e.degenerate, 0u);
+  const OrientNormalsResult r =
+      orient_normals(P, random_signs(e.normals, 23), knn_neighborhoods(P, 10));
+  EXPECT_EQ(count_facing_inward(P, r.normals, {0, 0, 0}), 0u);
+}
+
+// A closed plate 1 x 1 x 0.02: big faces sampled every 0.05 (2.5 times the
+// thickness), the rim by one row of points at mid-height. Every point's
+// nearest neighbor is on the other side, so k-NN edges cross the sheet and
+// cost nothing under Hoppe's 1 - |n_i . n_j|; the tree must go around the rim.
+TEST(OrientNormals, ThinPlateFacesAwayFromItsMidPlane) {
+  const int m = 20;
+  const double h = 1.0 / m, half_thickness = 0.01;
+  std::vector<Eigen::RowVector3d> points, normals;
+  for (int side = -1; side <= 1; side += 2)
+    for (int a = 0; a < m; ++a)
+      for (int b = 0; b < m; ++b) {
+        points.emplace_back((a + 0.5) * h - 0.5, (b + 0.5) * h - 0.5, side * half_thickness);
+        normals.emplace_back(0.0, 0.0, side);
+      }
+  const int faces = static_cast<int>(points.size());
+  for (int axis = 0; axis < 2; ++axis)
+    for (int side = -1; side <= 1; side += 2)
+      for (int a = 0; a < m; ++a) {
+        Eigen::RowVector3d p(0, 0, 0), n(0, 0, 0);
+        p(axis) = 0.5 * side;
+        p(1 - axis) = (a + 0.5) * h - 0.5;
+        n(axis) = side;
+        points.push_back(p);
+        normals.push_back(n);
+      }
+  Positions P(points.size(), 3);
+  Normals outward(points.size(), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    P.row(i) = points[i];
+    outward.row(i) = normals[i];
+  }
+
+  for (const int k : {10, 20, 30}) {
+    const Neighborhoods N = knn_neighborhoods(P, k);
+    for (int i = 0; i < faces; ++i)  // the nearest other point is across the sheet
+      ASSERT_NEAR(std::abs(P(N.begin(i)[1], 2) - P(i, 2)), 2 * half_thickness, 1e-15);
+    const OrientNormalsResult r = orient_normals(P, random_signs(outward, 29), N);
+    EXPECT_EQ(r.components, 1u);
+    EXPECT_EQ(r.cross_sheet_edges, 0u);
+    for (int i = 0; i < P.rows(); ++i)
+      ASSERT_TRUE(r.normals.row(i) == outward.row(i)) << "k = " << k << ", point " << i;
+  }
+}
+
+TEST(OrientNormals, ZeroNormalsStayZeroAndAreBypassed) {
+  const Positions P = fibonacci_sphere(5000, 1.0, {0, 0, 0});
+  Normals unoriented = random_signs(P, 31);  // radial on the unit sphere
+  for (int i = 0; i < P.rows(); i += 5) unoriented.row(i).setZero();
+  const OrientNormalsResult r = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
+  EXPECT_EQ(r.components, 1u);
+  for (int i = 0; i < P.rows(); ++i) {
+    if (i % 5 == 0)
+      ASSERT_EQ(r.normals.row(i).squaredNorm(), 0.0);
+    else
+      ASSERT_TRUE(r.normals.row(i) == P.row(i)) << "point " << i;
+  }
+}
+
+TEST(OrientNormals, SeparateShapesAreSeparateComponents) {
+  const Eigen::RowVector3d a(-5, 0, 0), b(5, 0, 0);
+  Positions P(4000, 3);
+  P << fibonacci_sphere(2000, 1.0, a), fibonacci_sphere(2000, 2.0, b);
+  Normals radial(4000, 3);
+  for (int i = 0; i < 4000; ++i) radial.row(i) = (P.row(i) - (i < 2000 ? a : b)).normalized();
+  const OrientNormalsResult r =
+      orient_normals(P, random_signs(radial, 37), knn_neighborhoods(P, 10));
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_TRUE(r.normals == radial);
+}
+
+// Grid points' 5 nearest neighbors are themselves and their grid neighbors,
+// 1 away; a point 0.9 above a cell center (1.14 from its corners) is nobody's
+// neighbor but has neighbors. Treated as undirected, all is one component.
+TEST(OrientNormals, KnnGraphIsTreatedAsUndirected) {
+  Positions P(101, 3);
+  for (int i = 0; i < 100; ++i) P.row(i) << i % 10, i / 10, 0;
+  P.row(100) << 4.5, 4.5, 0.9;
+  Normals unoriented = Eigen::RowVector3d(0, 0, 1).replicate(101, 1);
+  unoriented.row(100) *= -1.0;
+  const Neighborhoods N = knn_neighborhoods(P, 5);
+  for (int i = 0; i < 100; ++i) ASSERT_EQ(std::count(N.begin(i), N.end(i), 100u), 0);
+  const OrientNormalsResult r = orient_normals(P, unoriented, N);
+  EXPECT_EQ(r.components, 1u);
+  // The lone point is reached only by chords steep to both tangent planes.
+  EXPECT_EQ(r.cross_sheet_edges, 1u);
+  for (int i = 0; i < 101; ++i) ASSERT_TRUE(r.normals.row(i) == r.normals.row(0));
+}
+
+TEST(OrientNormals, SameForAnyThreadCount) {
+  std::mt19937 rng(41);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  Positions P = fibonacci_sphere(30000, 1.0, {0, 0, 0});
+  for (int i = 0; i < P.rows(); ++i) P.row(i) *= 1.0 + noise(rng);
+  const Normals unoriented =
+      random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 43);
+  omp_set_num_threads(1);
+  const OrientNormalsResult a = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
+  omp_set_num_threads(2);
+  const OrientNormalsResult b = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
+  EXPECT_TRUE(a.normals == b.normals);
+  EXPECT_EQ(a.flipped, b.flipped);
+  EXPECT_EQ(a.components, b.components);
+  EXPECT_EQ(count_facing_inward(P, a.normals, {0, 0, 0}), 0u);
+}
+
+TEST(OrientNormals, RejectsBadInput) {
+  const Positions P = fibonacci_sphere(100, 1.0, {0, 0, 0});
+  const Neighborhoods N = knn_neighborhoods(P, 5);
+  EXPECT_THROW(orient_normals(P, P.topRows(50), N), std::invalid_argument);
+  EXPECT_THROW(orient_normals(P.topRows(50), P.topRows(50), N), std::invalid_argument);
+  OrientNormalsParams params;
+  params.cross_sheet_angle = 0.0;
+  EXPECT_THROW(orient_normals(P, P, N, params), std::invalid_argument);
+  params.cross_sheet_angle = 120.0;
+  EXPECT_THROW(orient_normals(P, P, N, params), std::invalid_argument);
+}
+
+TEST(OrientationInconsistency, ConsistentFieldsScoreZero) {
+  const Positions sphere = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  EXPECT_EQ(orientation_inconsistency(sphere, knn_neighborhoods(sphere, 10)), 0.0);
+  // Neighbors across the cube's edges are perpendicular, hence not compared.
+  Normals face_normal;
+  const Positions cube = cube_faces(20, &face_normal);
+  EXPECT_EQ(orientation_inconsistency(face_normal, knn_neighborhoods(cube, 10)), 0.0);
+}
+
+// A pair disagrees when exactly one of its normals was flipped: 2 f (1 - f).
+TEST(OrientationInconsistency, RandomFlipsScoreTwoFTimesOneMinusF) {
+  const Positions P = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  const Neighborhoods N = knn_neighborhoods(P, 10);
+  const double ten_percent = orientation_inconsistency(flip_fraction(P, 0.10, 47), N);
+  EXPECT_NEAR(ten_percent, 0.18, 0.01);
+  EXPECT_GT(ten_percent, 10 * kInconsistentOrientationThreshold);
+  const double one_percent = orientation_inconsistency(flip_fraction(P, 0.01, 53), N);
+  EXPECT_NEAR(one_percent, 0.0198, 0.003);
+  EXPECT_GT(one_percent, kInconsistentOrientationThreshold);
+}
+
+TEST(OrientationInconsistency, OrientedPcaNormalsScoreZero) {
+  const Positions P = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  const Normals unoriented =
+      random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 59);
+  const Neighborhoods N = knn_neighborhoods(P, 10);
+  EXPECT_NEAR(orientation_inconsistency(unoriented, N), 0.5, 0.02);
+  EXPECT_EQ(orientation_inconsistency(orient_normals(P, unoriented, N).normals, N), 0.0);
+}
+
+}  // namespace
+}  // namespace detexture
