@@ -1,6 +1,402 @@
-// Placeholder during initial development; replaced by the real command.
+// `detexture INPUT -o OUTPUT [options]`: the texture-removal job. A thin layer
+// over remove_texture(): parse, read, run, write, report. Every default shown
+// by --help is read from the library's parameter structs.
+#include <omp.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+
 #include "commands.h"
+#include "detexture/io/read_point_cloud.h"
+#include "detexture/io/write_point_cloud.h"
+#include "detexture/pipeline/remove_texture.h"
+
 namespace detexture::app {
-int run_detexture(int, char**) { std::fputs("detexture: 'detexture' is not built yet\n", stderr); return kExitFailure; }
+namespace {
+
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Progress on stderr: a line per stage, with percentages once a stage has run
+// for more than a second (rewritten in place on a terminal).
+class ProgressPrinter {
+ public:
+  explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(isatty(fileno(stderr))) {}
+
+  PipelineObserver observer() {
+    PipelineObserver o;
+    if (quiet_) return o;
+    o.begin = [this](const std::string& stage) {
+      start_ = std::chrono::steady_clock::now();
+      last_percent_ = -1;
+      shown_ = false;
+      stage_ = stage;
+    };
+    o.progress = [this](const std::string&, double f) {
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+      if (elapsed < 1.0) return;
+      const int percent = static_cast<int>(f * 100.0);
+      const int step = tty_ ? 1 : 10;
+      if (percent / step == last_percent_ / step) return;
+      last_percent_ = percent;
+      shown_ = true;
+      std::fprintf(stderr, tty_ ? "\r  %-20s %3d%%" : "  %-20s %3d%%\n", stage_.c_str(), percent);
+      std::fflush(stderr);
+    };
+    o.end = [this](const std::string& stage, double seconds) {
+      std::fprintf(stderr, "%s  %-20s done in %.2f s\n", (tty_ && shown_) ? "\r" : "",
+                   stage.c_str(), seconds);
+    };
+    o.warning = [](const std::string& message) {
+      std::fprintf(stderr, "detexture: warning: %s\n", message.c_str());
+    };
+    return o;
+  }
+  void note(const std::string& message) const {
+    if (!quiet_) std::fprintf(stderr, "%s\n", message.c_str());
+  }
+
+ private:
+  bool quiet_, tty_;
+  std::chrono::steady_clock::time_point start_;
+  int last_percent_ = -1;
+  bool shown_ = false;
+  std::string stage_;
+};
+
+void add_length(CLI::App& app, const std::string& flags, Length& target,
+                const std::string& description) {
+  app.add_option_function<std::string>(
+         flags, [&target](const std::string& text) { target = parse_length(text); },
+         description + " [default: " + to_string(target) + "]")
+      ->type_name("LENGTH");
+}
+
+// The command-line name of an enum value, so --help shows the library default.
+template <class E>
+std::string name_of(const std::map<std::string, E>& names, E value) {
+  for (const auto& [name, v] : names)
+    if (v == value) return name;
+  return "?";
+}
+
+template <class T>
+void set_property(PointCloud& cloud, const std::string& name, ScalarType type, const T& values) {
+  PointProperty* prop = nullptr;
+  for (auto& e : cloud.extras)
+    if (e.name == name) prop = &e;
+  if (!prop) {
+    cloud.extras.push_back({name, type, {}});
+    prop = &cloud.extras.back();
+  }
+  prop->type = type;
+  prop->values.assign(values.begin(), values.end());
+}
+
+// The --stats file: flat JSON, one key per figure, stage times under "seconds".
+void write_stats(const std::string& path, std::size_t points, const RemoveTextureReport& r,
+                 double read_s, double write_s, double peak_mib) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw OutputError(path + ": cannot be written");
+  double total = read_s + write_s;
+  for (const auto& t : r.timings) total += t.seconds;
+  std::fprintf(f, "{\n  \"points\": %zu,\n  \"threads\": %d,\n", points, omp_get_max_threads());
+  std::fprintf(f, "  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n",
+               r.diagonal, r.radius, r.lambda);
+  std::fprintf(f, "  \"sigma_s\": %.17g,\n  \"sigma_p\": %.17g,\n", r.sigma_s, r.sigma_p);
+  std::fprintf(
+      f, "  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
+      r.neighbors.mean, r.neighbors.min, r.neighbors.max);
+  std::fprintf(f, "  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n",
+               r.texture_points, r.ransac_mean_iterations);
+  std::fprintf(f, "  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n",
+               r.rolling_iterations, r.update_iterations);
+  std::fprintf(f, "  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib,
+               read_s);
+  for (const auto& t : r.timings)
+    std::fprintf(f, "    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
+  std::fprintf(f, "    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
+  if (std::fclose(f) != 0) throw OutputError(path + ": cannot be written");
+}
+
+}  // namespace
+
+int run_detexture(int argc, char** argv) {
+  RemoveTextureParams params;
+  std::string input, output, texture_layer, format_in = "auto", format_out = "auto",
+                                            encoding = "binary";
+  int threads = 0;
+  bool quiet = false, force = false, texture_fields = false;
+  bool no_subneighborhood = false, no_blend = false;
+
+  CLI::App app{
+      "detexture: remove geometric surface texture (scales, knurls, engravings, bumps) from a "
+      "point cloud while keeping its underlying shape and sharp structures (Sun et al., "
+      "Reliable Rolling-guided Point Normal Filtering for Surface Texture Removal, PG 2019).\n"
+      "Lengths are in the cloud's units, or a fraction of the bounding-box diagonal with a "
+      "trailing d (0.02d).\nOther commands: 'detexture synth --help', 'detexture compare --help'.",
+      "detexture"};
+  app.get_formatter()->column_width(34);
+  app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
+      ->required();
+  app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...)")->required();
+  app.add_option("--input-format", format_in, "Input format: auto (by extension), ply, xyz")
+      ->capture_default_str();
+  app.add_option("--output-format", format_out, "Output format: auto (by extension), ply, xyz")
+      ->capture_default_str();
+  app.add_option("--encoding", encoding, "PLY output: binary, ascii, binary-big-endian")
+      ->capture_default_str();
+  app.add_flag("-f,--force", force, "Overwrite OUTPUT if it exists");
+
+  add_length(app, "-r,--radius", params.radius,
+             "r: neighborhood radius. About the size of the largest texture feature you want "
+             "gone; larger also blurs more of the shape.");
+  add_length(app, "--lambda", params.lambda,
+             "λ: RANSAC distance threshold (Eq. 2). Relief lower than λ counts as underlying "
+             "surface; must exceed the noise");
+  app.add_option("--delta", params.texture.delta,
+                 "δ: share of its neighborhoods in which a point must fit the plane to count "
+                 "as underlying surface (Eq. 2), in (0,1). Higher marks more points as texture")
+      ->capture_default_str();
+  add_length(app, "--sigma-s", params.sigma_s,
+             "σs: spatial scale of the normal filters (Eqs. 1, 3). Texture finer than σs is "
+             "smoothed away");
+  app.add_option("--planes", params.texture.planes,
+                 "RANSAC planes per neighborhood (Eq. 2): 1 is the paper; 2-3 also keep the "
+                 "other faces at creases and corners as surface instead of texture")
+      ->capture_default_str();
+  app.add_option("--sigma-r", params.rolling.sigma_r_deg,
+                 "σr: range scale of the rolling filter (Eq. 3), degrees. Larger gives smoother "
+                 "results; creases sharper than about 2σr survive")
+      ->capture_default_str();
+  app.add_option("--iterations", params.rolling.iterations,
+                 "Rolling iterations k (Eq. 3); more recovers larger structures")
+      ->capture_default_str();
+  app.add_option("--rolling-tolerance", params.rolling.tolerance_deg,
+                 "Stop rolling once the mean normal change is below this, degrees")
+      ->capture_default_str();
+  add_length(app, "--sigma-p", params.sigma_p,
+             "σp: spatial scale of the position-update weights (Eqs. 9-10)");
+  app.add_option("--isotropy", params.update.isotropy_deg,
+                 "Isotropic neighborhood Ψ (Eq. 10): neighbors whose normal is within this "
+                 "angle, degrees")
+      ->capture_default_str();
+  std::map<std::string, UpdateMode> update_modes{{"global", UpdateMode::Global},
+                                                 {"isotropic", UpdateMode::Isotropic},
+                                                 {"eq9", UpdateMode::Eq9}};
+  app.add_option("--update", params.update.mode,
+                 "Position update: global (ours: one least-squares solve, removes the texture "
+                 "from the positions too), isotropic (the paper's Eq. 10), eq9 (Eq. 9, Fig. 8 "
+                 "ablation)")
+      ->transform(CLI::CheckedTransformer(update_modes, CLI::ignore_case).description(""))
+      ->type_name("MODE")
+      ->default_str(name_of(update_modes, params.update.mode));
+  std::map<std::string, GuidanceMode> guidance_modes{{"patch-shift", GuidanceMode::PatchShift},
+                                                     {"plain", GuidanceMode::Plain}};
+  app.add_option("--guidance", params.rolling.guidance.mode,
+                 "Guidance normals: patch-shift (the paper, Eqs. 4-8) or plain (classic rolling "
+                 "guidance of Zheng et al. 2018, Fig. 7 ablation)")
+      ->transform(CLI::CheckedTransformer(guidance_modes, CLI::ignore_case).description(""))
+      ->type_name("MODE")
+      ->default_str(name_of(guidance_modes, params.rolling.guidance.mode));
+  std::map<std::string, NormalDifference> differences{
+      {"angle", NormalDifference::Angle}, {"one-minus-cos", NormalDifference::OneMinusCos}};
+  app.add_option("--difference", params.rolling.guidance.difference,
+                 "D in Eq. 4-5: angle or one-minus-cos")
+      ->transform(CLI::CheckedTransformer(differences, CLI::ignore_case).description(""))
+      ->type_name("MODE")
+      ->default_str(name_of(differences, params.rolling.guidance.difference));
+  app.add_flag("--no-blend", no_blend, "Skip the α blend of the guidance (Eqs. 7-8)");
+  app.add_flag("--no-subneighborhood", no_subneighborhood,
+               "Filter over all of R_i instead of the sub-neighborhood Ω_i (plain Gaussian, "
+               "Fig. 4 ablation); also in Eq. 3");
+  bool paper_rolling_neighborhood = false;
+  app.add_flag("--paper-rolling-neighborhood", paper_rolling_neighborhood,
+               "Sum Eq. 3 over R_i as printed in the paper, instead of Ω_i");
+  app.add_option("--anchor-surface", params.update.anchor_surface,
+                 "Global update: how strongly underlying-surface points keep their place")
+      ->capture_default_str();
+  app.add_option("--anchor-texture", params.update.anchor_texture,
+                 "Global update: how strongly texture points keep their place")
+      ->capture_default_str();
+  add_length(app, "--solve-radius", params.solve_radius,
+             "Global update: neighbors closer than this take part in the solve");
+  app.add_option("--max-neighbors", params.max_neighbors,
+                 "Keep at most this many nearest neighbors in R_i (0 = no cap)")
+      ->capture_default_str();
+  app.add_option("--normal-neighbors", params.normal_neighbors,
+                 "k nearest neighbors for estimating and orienting normals when the input has "
+                 "none")
+      ->capture_default_str();
+  app.add_flag("--reorient", params.reorient,
+               "Re-orient the input normals consistently before filtering");
+  app.add_option("--ransac-confidence", params.texture.confidence,
+                 "RANSAC stops once the best plane is found with this probability")
+      ->capture_default_str();
+  app.add_option("--ransac-max-iterations", params.texture.max_iterations,
+                 "Cap on RANSAC tries per neighborhood")
+      ->capture_default_str();
+  app.add_option("--seed", params.texture.seed, "Seed of the RANSAC generators")
+      ->capture_default_str();
+
+  app.add_flag("--texture-fields", texture_fields,
+               "Add per-point properties 'texture' (0/1, Eq. 2) and 'texture_height' (signed "
+               "displacement removed along the output normal) to a PLY output");
+  app.add_option("--texture-layer", texture_layer,
+                 "Also write the input cloud with its 'texture_height' (PLY): the texture "
+                 "layer on its own");
+  app.add_option("-j,--threads", threads, "Worker threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("-q,--quiet", quiet, "No progress or summary on stderr");
+  std::string stats_path;
+  app.add_option("--stats", stats_path,
+                 "Write the run's figures (counts, resolved parameters, seconds per stage, peak "
+                 "memory) as JSON to this file");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+
+  ProgressPrinter printer(quiet);
+  try {
+    params.gaussian.use_subneighborhood = !no_subneighborhood;
+    if (no_subneighborhood) params.rolling.use_subneighborhood = false;
+    params.rolling.guidance.blend = !no_blend;
+    if (paper_rolling_neighborhood) params.rolling.use_subneighborhood = false;
+    validate(params);
+    if (threads > 0) omp_set_num_threads(threads);
+    const FileFormat in_format = parse_file_format(format_in);
+    const FileFormat out_format = parse_file_format(format_out);
+    WriteOptions write_options;
+    write_options.format = out_format;
+    write_options.protect_path = input;
+    if (encoding == "binary")
+      write_options.encoding = PlyEncoding::BinaryLittleEndian;
+    else if (encoding == "ascii")
+      write_options.encoding = PlyEncoding::Ascii;
+    else if (encoding == "binary-big-endian")
+      write_options.encoding = PlyEncoding::BinaryBigEndian;
+    else
+      throw std::invalid_argument("--encoding must be binary, ascii or binary-big-endian");
+    // Check the outputs before the work, so a long run does not end in a refusal.
+    for (const std::string& path : {output, texture_layer}) {
+      if (path.empty()) continue;
+      if (out_format == FileFormat::Auto) (void)format_from_extension(path);
+      if (!force && std::filesystem::exists(path))
+        throw OutputError(path + ": exists; pass --force to overwrite it");
+      std::error_code ec;
+      if (std::filesystem::exists(input) && std::filesystem::equivalent(input, path, ec))
+        throw OutputError(path + ": is the input file; refusing to overwrite it");
+    }
+
+    const auto t0 = std::chrono::steady_clock::now();
+    PointCloud cloud;
+    ReadReport read_report;
+    try {
+      cloud = read_point_cloud(input, in_format, &read_report);
+    } catch (const std::exception& e) {
+      throw InputError(e.what());
+    }
+    const double read_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const auto& notice : read_report.notices) printer.note("detexture: note: " + notice);
+    printer.note("read " + std::to_string(cloud.size()) + " points from " + input +
+                 (cloud.has_normals() ? " (with normals)" : " (no normals: estimating them)"));
+    if (read_report.zero_length_normals > 0)
+      printer.note("detexture: note: " + std::to_string(read_report.zero_length_normals) +
+                   " input normals have zero length; they are re-estimated");
+
+    RemoveTextureResult result =
+        remove_texture(cloud.positions, cloud.has_normals() ? cloud.normals : Normals(), params,
+                       printer.observer());
+
+    const auto t1 = std::chrono::steady_clock::now();
+    PointCloud out = cloud;
+    out.positions = result.positions;
+    out.normals = result.normals;
+    if (texture_fields) {
+      set_property(out, "texture", ScalarType::UInt8, result.is_texture);
+      set_property(
+          out, "texture_height", ScalarType::Float32,
+          std::vector<double>(result.texture_height.data(),
+                              result.texture_height.data() + result.texture_height.size()));
+    }
+    try {
+      write_point_cloud(output, out, write_options);
+      if (!texture_layer.empty()) {
+        PointCloud layer = cloud;
+        layer.normals = result.input_normals;
+        set_property(
+            layer, "texture_height", ScalarType::Float32,
+            std::vector<double>(result.texture_height.data(),
+                                result.texture_height.data() + result.texture_height.size()));
+        write_point_cloud(texture_layer, layer, write_options);
+      }
+    } catch (const std::exception& e) {
+      throw OutputError(e.what());
+    }
+    const double write_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+
+    struct rusage usage {};
+    getrusage(RUSAGE_SELF, &usage);
+    const double peak_mib = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
+    if (!stats_path.empty())
+      write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib);
+    if (!quiet) {
+      const auto& r = result.report;
+      double total = read_s + write_s;
+      for (const auto& t : r.timings) total += t.seconds;
+      std::fprintf(stderr,
+                   "wrote %s\n"
+                   "summary: %zu points, bounding-box diagonal d = %g\n"
+                   "  r = %g, λ = %g, σs = %g, σr = %g°, δ = %g, σp = %g\n"
+                   "  neighbors per point: mean %.1f, min %zu, max %zu\n"
+                   "  texture points (Eq. 2): %zu (%.1f%%); RANSAC tries per point %.1f\n"
+                   "  rolling iterations: %d; position update: %d iterations, mean move %g\n",
+                   output.c_str(), cloud.size(), r.diagonal, r.radius, r.lambda, r.sigma_s,
+                   params.rolling.sigma_r_deg, params.texture.delta, r.sigma_p, r.neighbors.mean,
+                   r.neighbors.min, r.neighbors.max, r.texture_points,
+                   100.0 * r.texture_points / cloud.size(), r.ransac_mean_iterations,
+                   r.rolling_iterations, r.update_iterations, r.mean_displacement);
+      if (!texture_layer.empty())
+        std::fprintf(stderr, "  texture layer: %s\n", texture_layer.c_str());
+      std::fprintf(stderr, "  time: read %.2f s", read_s);
+      for (const auto& t : r.timings)
+        std::fprintf(stderr, ", %s %.2f s", t.stage.c_str(), t.seconds);
+      std::fprintf(stderr, ", write %.2f s; total %.2f s on %d threads; peak memory %.0f MiB\n",
+                   write_s, total, omp_get_max_threads(), peak_mib);
+    }
+    return kExitOk;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "detexture: error: %s\n", e.what());
+    return kExitInput;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "detexture: error: %s\n", e.what());
+    return kExitOutput;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "detexture: error: %s\n", e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "detexture: error: %s\n", e.what());
+    return kExitFailure;
+  }
+}
+
 }  // namespace detexture::app

@@ -1,0 +1,120 @@
+// The whole method of Sun et al. 2019 (Secs. 4-6) as one call: neighborhoods,
+// normals when the input has none, texture identification (Eq. 2), Gaussian
+// texture removal (Eq. 1), rolling-guided structure recovery (Eqs. 3-8) and
+// the position update (Eqs. 9-10, or our global solve).
+//
+// This is what the command line and the bindings call. Every stage is also a
+// free function of its own (see the headers next to this one) for callers who
+// want to reuse neighborhoods or run a stage alone.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/pipeline/detect_texture.h"
+#include "detexture/pipeline/filter_normals_gaussian.h"
+#include "detexture/pipeline/filter_normals_rolling.h"
+#include "detexture/pipeline/update_positions.h"
+#include "detexture/types.h"
+
+namespace detexture {
+
+/// A length given either in the cloud's units or as a fraction of the
+/// bounding-box diagonal d (written "0.02d" on the command line).
+struct Length {
+  double value = 0.0;
+  bool relative = true;  ///< value is a fraction of d
+  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
+};
+
+/// Parse "0.02d" (relative) or "0.5" (absolute); throws std::invalid_argument
+/// with a sentence for anything else or a non-positive value.
+Length parse_length(const std::string& text);
+std::string to_string(const Length& length);
+
+/// Every parameter of the method. Lengths are resolved against the input's
+/// bounding-box diagonal d; the stage structs' own length fields are ignored
+/// and filled from these.
+struct RemoveTextureParams {
+  /// r: radius of the neighborhoods R_i. Roughly the size of the largest
+  /// texture feature you want gone.
+  Length radius{0.02, true};
+  /// λ: RANSAC distance threshold (Eq. 2). Bumps lower than λ count as surface.
+  Length lambda{0.002, true};
+  /// σs: spatial scale of the normal filters (Eqs. 1, 3). Texture smaller than
+  /// σs is smoothed away.
+  Length sigma_s{0.02, true};
+  /// σp: spatial scale of the position-update weights (Eqs. 9-10).
+  Length sigma_p{0.01, true};
+  /// Global position update: neighbors closer than this enter the solve.
+  Length solve_radius{0.01, true};
+  /// Keep at most this many nearest neighbors in R_i (0 = all).
+  int max_neighbors = 0;
+  /// Neighbors used to estimate and orient normals when the input has none.
+  int normal_neighbors = 16;
+  /// Re-orient the input normals consistently (Hoppe MST) before filtering.
+  bool reorient = false;
+
+  DetectTextureParams texture;           ///< δ, confidence, RANSAC cap, seed (λ from above)
+  FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
+  FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
+  UpdatePositionsParams update;  ///< mode, isotropy angle, anchors (σp, solve radius from above)
+};
+
+/// Check every parameter; throws std::invalid_argument naming the bad one.
+void validate(const RemoveTextureParams& params);
+
+/// Callbacks for long work; any may be empty. Called from the calling thread
+/// or, for progress, from one worker at a time.
+struct PipelineObserver {
+  std::function<void(const std::string& stage)> begin;
+  std::function<void(const std::string& stage, double fraction)> progress;
+  std::function<void(const std::string& stage, double seconds)> end;
+  std::function<void(const std::string& message)> warning;
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0.0;
+};
+
+struct RemoveTextureReport {
+  double diagonal = 0.0;
+  double radius = 0.0, lambda = 0.0, sigma_s = 0.0, sigma_p = 0.0;  ///< resolved lengths
+  NeighborhoodStats neighbors;  ///< of R_i; sparse = fewer than 3 neighbors
+  bool normals_estimated = false;
+  std::size_t normals_reestimated = 0;     ///< zero-length input normals re-estimated
+  std::size_t normals_degenerate = 0;      ///< normals that could not be estimated (left zero)
+  std::size_t normals_flipped = 0;         ///< by orientation
+  double orientation_inconsistency = 0.0;  ///< of the normals fed to the filters
+  std::size_t texture_points = 0;
+  std::size_t no_plane = 0;
+  double ransac_mean_iterations = 0.0;
+  std::size_t empty_subneighborhoods = 0;
+  int rolling_iterations = 0;
+  std::size_t update_isolated = 0;
+  int update_iterations = 0;
+  double mean_displacement = 0.0;
+  std::vector<StageTiming> timings;
+};
+
+struct RemoveTextureResult {
+  Positions positions;                   ///< #P by 3, texture removed
+  Normals normals;                       ///< #P by 3 filtered unit normals
+  std::vector<std::uint8_t> is_texture;  ///< #P, Eq. 2
+  Eigen::VectorXd texture_height;        ///< #P, (p_in - p_out)·n_out: the signed texture removed
+  Normals input_normals;                 ///< #P by 3, the normals the filters started from
+  RemoveTextureReport report;
+};
+
+/// Run the method on positions P (#P by 3) with optional input normals (#P by
+/// 3, or 0 rows to estimate them). Deterministic for any thread count.
+/// Throws std::invalid_argument on bad parameters or mismatched sizes.
+RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
+                                   const RemoveTextureParams& params,
+                                   const PipelineObserver& observer = {});
+
+}  // namespace detexture

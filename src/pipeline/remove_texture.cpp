@@ -1,0 +1,222 @@
+#include "detexture/pipeline/remove_texture.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "detexture/geometry/estimate_normals.h"
+#include "detexture/geometry/orient_normals.h"
+
+namespace detexture {
+
+Length parse_length(const std::string& text) {
+  std::string number = text;
+  bool relative = false;
+  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
+    relative = true;
+    number.pop_back();
+  }
+  char* end = nullptr;
+  const double value = number.empty() ? 0.0 : std::strtod(number.c_str(), &end);
+  if (number.empty() || end != number.c_str() + number.size() || !std::isfinite(value))
+    throw std::invalid_argument("'" + text +
+                                "' is not a length: give a number in the cloud's units, or a "
+                                "fraction of the bounding-box diagonal such as 0.02d");
+  if (!(value > 0.0)) throw std::invalid_argument("length '" + text + "' must be positive");
+  return {value, relative};
+}
+
+std::string to_string(const Length& length) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%g%s", length.value, length.relative ? "d" : "");
+  return buf;
+}
+
+void validate(const RemoveTextureParams& p) {
+  for (const auto& [name, len] : {std::pair<const char*, Length>{"radius r", p.radius},
+                                  {"lambda", p.lambda},
+                                  {"sigma_s", p.sigma_s},
+                                  {"sigma_p", p.sigma_p},
+                                  {"solve radius", p.solve_radius}})
+    if (!(len.value > 0.0) || !std::isfinite(len.value))
+      throw std::invalid_argument(std::string(name) + " must be a positive length, got " +
+                                  to_string(len));
+  if (p.max_neighbors < 0) throw std::invalid_argument("the neighbor cap cannot be negative");
+  if (p.max_neighbors > 0 && p.max_neighbors < 3)
+    throw std::invalid_argument("a neighbor cap below 3 leaves no plane to fit; use 0 or >= 3");
+  if (p.normal_neighbors < 3)
+    throw std::invalid_argument("normal estimation needs at least 3 neighbors");
+  // The stage validators check everything else; lengths are filled in with a
+  // placeholder so they do not trip on the unresolved values.
+  DetectTextureParams t = p.texture;
+  t.lambda = 1.0;
+  validate(t);
+  FilterNormalsRollingParams r = p.rolling;
+  r.sigma_s = 1.0;
+  validate(r);
+  UpdatePositionsParams u = p.update;
+  u.sigma_p = 1.0;
+  u.solve_radius = 1.0;
+  validate(u);
+}
+
+namespace {
+
+class StageClock {
+ public:
+  StageClock(const PipelineObserver& observer, RemoveTextureReport& report, std::string stage)
+      : observer_(observer),
+        report_(report),
+        stage_(std::move(stage)),
+        start_(std::chrono::steady_clock::now()) {
+    if (observer_.begin) observer_.begin(stage_);
+  }
+  ProgressFn progress() const {
+    if (!observer_.progress) return {};
+    return [this](double f) { observer_.progress(stage_, f); };
+  }
+  ~StageClock() {
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    report_.timings.push_back({stage_, s});
+    if (observer_.end) observer_.end(stage_, s);
+  }
+
+ private:
+  const PipelineObserver& observer_;
+  RemoveTextureReport& report_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+void warn(const PipelineObserver& observer, const std::string& message) {
+  if (observer.warning) observer.warning(message);
+}
+
+}  // namespace
+
+RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
+                                   const RemoveTextureParams& params,
+                                   const PipelineObserver& observer) {
+  validate(params);
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  if (n == 0) throw std::invalid_argument("the point cloud is empty");
+  if (normals.rows() != 0 && normals.rows() != P.rows())
+    throw std::invalid_argument("there must be as many normals as points, or none");
+
+  RemoveTextureResult result;
+  RemoveTextureReport& rep = result.report;
+  rep.diagonal = bounding_box_diagonal(P);
+  if (!(rep.diagonal > 0.0))
+    throw std::invalid_argument("all points coincide: the cloud has no extent to filter");
+  rep.radius = params.radius.resolve(rep.diagonal);
+  rep.lambda = params.lambda.resolve(rep.diagonal);
+  rep.sigma_s = params.sigma_s.resolve(rep.diagonal);
+  rep.sigma_p = params.sigma_p.resolve(rep.diagonal);
+
+  Neighborhoods R;
+  {
+    StageClock clock(observer, rep, "neighborhoods");
+    R = radius_neighborhoods(P, {rep.radius, params.max_neighbors}, clock.progress());
+    rep.neighbors = neighborhood_stats(R, 3);
+  }
+  if (rep.neighbors.sparse_points > 0)
+    warn(observer, std::to_string(rep.neighbors.sparse_points) +
+                       " points have fewer than 3 neighbors within r; they keep their input "
+                       "position and normal. Increase --radius if there are many.");
+
+  // Normals: estimated on a small k-NN neighborhood, so that they describe the
+  // textured surface (the filters expect that) and stay sharp at creases.
+  const bool have_normals = normals.rows() == P.rows();
+  if (!have_normals || params.reorient) {
+    StageClock clock(observer, rep, have_normals ? "orient normals" : "estimate normals");
+    const Neighborhoods K = knn_neighborhoods(P, params.normal_neighbors);
+    Normals raw;
+    if (have_normals) {
+      raw = reestimate_zero_normals(P, normals, K, &rep.normals_reestimated);
+    } else {
+      EstimateNormalsResult est = estimate_normals(P, K, clock.progress());
+      raw = std::move(est.normals);
+      rep.normals_degenerate = est.degenerate;
+      rep.normals_estimated = true;
+    }
+    OrientNormalsResult oriented = orient_normals(P, raw, K);
+    rep.normals_flipped = oriented.flipped;
+    result.input_normals = std::move(oriented.normals);
+  } else {
+    std::size_t zero = 0;
+    for (std::size_t i = 0; i < n; ++i) zero += normals.row(i).squaredNorm() == 0.0;
+    if (zero > 0) {
+      StageClock clock(observer, rep, "re-estimate normals");
+      const Neighborhoods K = knn_neighborhoods(P, params.normal_neighbors);
+      result.input_normals = reestimate_zero_normals(P, normals, K, &rep.normals_reestimated);
+    } else {
+      result.input_normals = normals;
+    }
+  }
+  rep.normals_degenerate = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    rep.normals_degenerate += result.input_normals.row(i).squaredNorm() == 0.0;
+  if (rep.normals_degenerate > 0)
+    warn(observer, std::to_string(rep.normals_degenerate) +
+                       " points have no usable normal (too few or collinear neighbors); they "
+                       "take the filtered normal of their neighbors");
+  rep.orientation_inconsistency = orientation_inconsistency(result.input_normals, R);
+  if (have_normals && !params.reorient &&
+      rep.orientation_inconsistency > kInconsistentOrientationThreshold)
+    warn(observer, "the input normals look inconsistently oriented (" +
+                       std::to_string(100.0 * rep.orientation_inconsistency) +
+                       "% of neighbor pairs disagree); consider --reorient");
+
+  {
+    StageClock clock(observer, rep, "detect texture");
+    DetectTextureParams tp = params.texture;
+    tp.lambda = rep.lambda;
+    TextureDetection det = detect_texture(P, R, tp, clock.progress());
+    result.is_texture = std::move(det.is_texture);
+    rep.texture_points = det.texture_points;
+    rep.no_plane = det.no_plane;
+    rep.ransac_mean_iterations = det.mean_iterations;
+  }
+
+  Normals filtered;
+  {
+    StageClock clock(observer, rep, "gaussian filter");
+    FilterNormalsGaussianParams gp = params.gaussian;
+    gp.sigma_s = rep.sigma_s;
+    GaussianFilterResult g =
+        filter_normals_gaussian(P, result.input_normals, R, result.is_texture, gp);
+    rep.empty_subneighborhoods = g.empty_subneighborhoods;
+    filtered = std::move(g.normals);
+  }
+  {
+    StageClock clock(observer, rep, "rolling filter");
+    FilterNormalsRollingParams rp = params.rolling;
+    rp.sigma_s = rep.sigma_s;
+    RollingFilterResult r = filter_normals_rolling(P, result.input_normals, filtered, R,
+                                                   result.is_texture, rp, clock.progress());
+    rep.rolling_iterations = r.iterations;
+    filtered = std::move(r.normals);
+  }
+  {
+    StageClock clock(observer, rep, "update positions");
+    UpdatePositionsParams up = params.update;
+    up.sigma_p = rep.sigma_p;
+    up.solve_radius = params.solve_radius.resolve(rep.diagonal);
+    UpdatePositionsResult u =
+        update_positions(P, filtered, R, result.is_texture, up, clock.progress());
+    rep.update_isolated = u.isolated;
+    rep.update_iterations = u.iterations;
+    rep.mean_displacement = u.mean_displacement;
+    result.positions = std::move(u.positions);
+  }
+  result.normals = std::move(filtered);
+  result.texture_height.resize(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    result.texture_height(static_cast<Eigen::Index>(i)) =
+        (P.row(i) - result.positions.row(i)).dot(result.normals.row(i));
+  return result;
+}
+
+}  // namespace detexture
