@@ -1,0 +1,701 @@
+#!/usr/bin/python3
+"""The ground-truth quality benchmark of detexture (bench/README.md).
+
+    bench/quality [BUILD_DIR]     -> run the suite, write bench/RESULTS.md (quality section)
+    bench/tune_peers [BUILD_DIR]  -> grid-search the peers' parameters, write bench/peer_params.json
+
+Both are thin wrappers around this file. Use Debian's /usr/bin/python3 (numpy is
+not needed; every metric comes from `detexture compare --json`).
+
+The suite, the detexture parameter rule, the peer grids and the tuning
+criterion are all defined here, in one place, and documented in bench/README.md.
+"""
+
+import argparse
+import concurrent.futures
+import datetime
+import itertools
+import json
+import math
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PEER_PARAMS_FILE = os.path.join(REPO, "bench", "peer_params.json")
+RESULTS_FILE = os.path.join(REPO, "bench", "RESULTS.md")
+QUALITY_BEGIN, QUALITY_END = "<!-- quality:begin -->", "<!-- quality:end -->"
+SPEED_BEGIN, SPEED_END = "<!-- speed:begin -->", "<!-- speed:end -->"
+
+# --------------------------------------------------------------------------
+# The suite. Fixed before any method was run on it (see bench/README.md);
+# do not tune it to the results.
+# --------------------------------------------------------------------------
+
+POINTS = 100_000  # textured samples per case
+GROUND_TRUTH_POINTS = 200_000  # `detexture synth` default
+SEED = 1
+
+# Area and bounding-box diagonal of each base shape (docs/synth_and_compare.md):
+# the area gives the sampling density rho = N / area, which converts the
+# peers' relative parameters into neighbour counts and MeshLab filter scales.
+SHAPE_AREA = {
+    "sphere": math.pi,  # 4 pi 0.5^2
+    "cube": 6.0,
+    "cylinder": 1.5 * math.pi,  # side 2 pi 0.5 * 1 + caps 2 pi 0.5^2
+    "torus": 4 * math.pi**2 * 0.35 * 0.15,
+    "pyramid": 1.0 + 2.0 * math.sqrt(1.25),  # base + 4 triangles of slant height sqrt(1.25)
+    "plane": 1.0,
+}
+SHAPE_DIAGONAL = {
+    "sphere": math.sqrt(3),
+    "cube": math.sqrt(3),
+    "cylinder": math.sqrt(3),
+    "torus": math.sqrt(2 + 0.3**2),
+    "pyramid": math.sqrt(3),
+    "plane": math.sqrt(2),
+}
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    shape: str
+    texture: str
+    layout: str
+    size: float  # R: feature size (the largest one for multiscale), model units
+    amplitude: float  # A, model units
+    mixed_signs: bool = False
+    noise: float = 0.0  # Gaussian noise std dev as a fraction of the base diagonal
+    what: str = ""
+
+    def synth_args(self, points):
+        args = ["--shape", self.shape, "--texture", self.texture, "--layout", self.layout,
+                "--size", fmt(self.size), "--amplitude", fmt(self.amplitude),
+                "--points", str(points), "--ground-truth-points", str(GROUND_TRUTH_POINTS),
+                "--seed", str(SEED)]
+        if self.mixed_signs:
+            args.append("--mixed-signs")
+        if self.noise > 0:
+            args += ["--noise", fmt(self.noise)]
+        return args
+
+    def density(self, points):
+        """Points per unit area (of the base surface)."""
+        return points / SHAPE_AREA[self.shape]
+
+    def noise_sigma(self):
+        return self.noise * SHAPE_DIAGONAL[self.shape]
+
+
+SUITE = [
+    Case("cube-bumps", "cube", "bumps", "sparse", 0.035, 0.012,
+         what="sharp edges and corners; separated Gaussian bumps"),
+    Case("cube-noisy", "cube", "bumps", "dense", 0.035, 0.012, mixed_signs=True, noise=0.001,
+         what="sharp; touching bumps up and down; noise 0.001d (0.0017, 14% of A)"),
+    Case("pyramid-vgrooves", "pyramid", "v-grooves", "sparse", 0.03, 0.01,
+         what="sharp edges at 63 and 117 degrees, apex; parallel V grooves"),
+    Case("sphere-multiscale", "sphere", "multiscale", "sparse", 0.036, 0.015, mixed_signs=True,
+         what="the paper's Table 3 sphere: bumps of two scales (R, R/3), up and down"),
+    Case("torus-waves", "torus", "waves", "dense", 0.02, 0.008,
+         what="dense sinusoidal ridges on a doubly curved surface (saddle inside)"),
+    Case("cylinder-scales", "cylinder", "scales", "dense", 0.035, 0.01,
+         what="dense Voronoi scales (creases between cells); sharp rims"),
+    Case("plane-domes", "plane", "domes", "sparse", 0.02, 0.008, mixed_signs=True,
+         what="sparse domes and dimples with vertical rims; open border"),
+    Case("cylinder-ugrooves-noisy", "cylinder", "u-grooves", "sparse", 0.03, 0.01, noise=0.0005,
+         what="U grooves with vertical walls; noise 0.0005d (0.0009, 9% of A)"),
+]
+
+# --------------------------------------------------------------------------
+# detexture: one parameter rule for every case (bench/README.md).
+# --------------------------------------------------------------------------
+
+RADIUS_FACTOR = 1.5  # r = 1.5 R
+NOISE_LAMBDA_FACTOR = 3.0  # lambda = max(default 0.002 d, 3 sigma_noise)
+DEFAULT_LAMBDA_FRACTION = 0.002
+
+
+def detexture_rule(case):
+    """Parameters a user would pick from the texture scale (and noise level)."""
+    r = RADIUS_FACTOR * case.size
+    args = ["-r", fmt(r), "--sigma-s", fmt(r)]
+    lam = NOISE_LAMBDA_FACTOR * case.noise_sigma()
+    if lam > DEFAULT_LAMBDA_FRACTION * SHAPE_DIAGONAL[case.shape]:
+        args += ["--lambda", fmt(lam)]
+    return args
+
+
+DETEXTURE_VARIANTS = [
+    # name, extra options, what it shows
+    ("detexture", [], "the full method (defaults)"),
+    ("no-subneighborhood", ["--no-subneighborhood"], "plain Gaussian over R_i (Fig. 4 ablation)"),
+    ("plain-guidance", ["--guidance", "plain"], "classic rolling guidance, Zheng et al. 2018 (Fig. 7)"),
+    ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
+]
+
+# --------------------------------------------------------------------------
+# Peers: grids of parameters relative to the feature size R (bench/README.md).
+# --------------------------------------------------------------------------
+
+PEER_GRIDS = {
+    # K nearest neighbours chosen so that their radius is about c R:
+    # K = rho pi (c R)^2 (CGAL sets its spatial bandwidth from the K-NN distance).
+    "cgal-bilateral": {"c": [1.0, 1.5, 2.0], "sharpness": [15, 30, 60], "iterations": [1, 3]},
+    # radius c R (detexture's radius neighbourhoods, query point first), jet degree.
+    "cgal-jet": {"c": [1.0, 1.5, 2.0, 3.0], "degree": [2, 3]},
+    # radius c R, Gaussian weight exp(-d^2 / (c R)^2) (PCL's default), polynomial order.
+    "pcl-mls": {"c": [1.0, 1.5, 2.0, 3.0], "order": [1, 2, 3]},
+    # kernel support about c R: FILTER_SCALE = c R sqrt(pi rho) / 2, since MeshLab's
+    # per-point radius is about 2 / sqrt(pi rho) (2 sqrt(d16^2 / 16) from 16 neighbours).
+    "meshlab-rimls": {"c": [1.0, 1.5, 2.0, 3.0], "sigma_n": [0.5, 1.0, 2.0]},
+}
+PEER_ORDER = ["cgal-bilateral", "cgal-jet", "pcl-mls", "meshlab-rimls"]
+PEER_LABEL = {
+    "cgal-bilateral": "CGAL bilateral (EAR)",
+    "cgal-jet": "CGAL jet",
+    "pcl-mls": "PCL MLS",
+    "meshlab-rimls": "MeshLab RIMLS",
+}
+TUNE_POINTS = 40_000
+
+
+def peer_program(build, peer):
+    if peer == "meshlab-rimls":
+        if not shutil.which("meshlabserver"):
+            return None
+        return os.path.join(REPO, "bench", "peers", "peer_meshlab_rimls.sh")
+    name = {"cgal-bilateral": "peer_cgal_bilateral", "cgal-jet": "peer_cgal_jet",
+            "pcl-mls": "peer_pcl_mls"}[peer]
+    path = os.path.join(build, "bench", "peers", name)
+    return path if os.access(path, os.X_OK) else None
+
+
+def peer_args(peer, params, case, points, threads=None):
+    """Command-line arguments (after IN OUT) of a peer for relative params on a case."""
+    R = case.size
+    rho = case.density(points)
+    c = params["c"]
+    t = [] if threads is None else ["-t", str(threads)]
+    if peer == "cgal-bilateral":
+        k = max(8, round(rho * math.pi * (c * R) ** 2))
+        return ["-k", str(k), "-s", fmt(params["sharpness"]), "-i", str(params["iterations"])] + t
+    if peer == "cgal-jet":
+        return ["-r", fmt(c * R), "-d", str(params["degree"])] + t
+    if peer == "pcl-mls":
+        return ["-r", fmt(c * R), "-o", str(params["order"])] + t
+    if peer == "meshlab-rimls":
+        scale = c * R * math.sqrt(math.pi * rho) / 2
+        return [fmt(scale), fmt(params["sigma_n"])]
+    raise ValueError(peer)
+
+
+# --------------------------------------------------------------------------
+# Running things
+# --------------------------------------------------------------------------
+
+
+def fmt(x):
+    return f"{x:.6g}"
+
+
+def log(msg):
+    print(msg, flush=True)
+
+
+def run(cmd, log_path, timeout):
+    """Run cmd, stdout+stderr to log_path; return (ok, stdout text, message)."""
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        with open(log_path, "w") as f:
+            f.write("$ " + shlex.join(cmd) + f"\nTIMEOUT after {timeout} s\n")
+        return False, "", f"timeout after {timeout:.0f} s"
+    wall = time.monotonic() - t0
+    with open(log_path, "w") as f:
+        f.write("$ " + shlex.join(cmd) + "\n" + p.stdout + p.stderr + f"\n# wall {wall:.2f} s\n")
+    if p.returncode != 0:
+        last = (p.stderr.strip().splitlines() or ["?"])[-1]
+        return False, p.stdout, f"exit {p.returncode}: {last}"
+    return True, p.stdout, ""
+
+
+def last_seconds(stdout):
+    lines = [l for l in stdout.strip().splitlines() if l.strip()]
+    if lines:
+        m = re.match(r"seconds:\s*([0-9.eE+-]+)", lines[-1].strip())
+        if m:
+            return float(m.group(1))
+    return None
+
+
+def detexture_seconds(stats_path):
+    """Algorithm time from --stats: total minus reading and writing."""
+    with open(stats_path) as f:
+        s = json.load(f)["seconds"]
+    return s["total"] - s.get("read", 0.0) - s.get("write", 0.0)
+
+
+def synthesize(build, case, points, work):
+    base = os.path.join(work, case.name)
+    ply, gt = base + ".ply", base + ".gt.ply"
+    if not (os.path.exists(ply) and os.path.exists(gt)):
+        ok, _, msg = run([detexture_bin(build), "synth", "-o", ply] + case.synth_args(points),
+                         base + ".synth.log", 300)
+        if not ok:
+            raise RuntimeError(f"synth failed for {case.name}: {msg}")
+    return ply, gt
+
+
+def compare(build, result, gt):
+    p = subprocess.run([detexture_bin(build), "compare", result, gt, "--json"],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"compare {result} failed: {p.stderr.strip()}")
+    return json.loads(p.stdout)
+
+
+def detexture_bin(build):
+    return os.path.join(build, "detexture")
+
+
+def ensure_built(build, allow_build):
+    """Build detexture and the peers into `build` when they are missing."""
+    missing = not os.access(detexture_bin(build), os.X_OK)
+    peers_configured = False
+    cache = os.path.join(build, "CMakeCache.txt")
+    if os.path.exists(cache):
+        with open(cache) as f:
+            peers_configured = "DETEXTURE_BUILD_PEERS:BOOL=ON" in f.read()
+    if not missing and peers_configured:
+        # Configured with peers: make sure they are built (a no-op when up to date).
+        missing = not os.path.isdir(os.path.join(build, "bench", "peers"))
+    if not missing and peers_configured:
+        return
+    if not missing and not peers_configured:
+        log(f"note: {build} was configured without -DDETEXTURE_BUILD_PEERS=ON; "
+            "the compiled peers will be skipped (reconfigure to include them)")
+        return
+    if not allow_build:
+        sys.exit(f"error: {detexture_bin(build)} is missing; build it (bench/README.md) or drop --no-build")
+    log(f"building detexture and the peers in {build} (Release, -j2) ...")
+    subprocess.run(["cmake", "-S", REPO, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
+                    "-DDETEXTURE_BUILD_PEERS=ON"], check=True)
+    subprocess.run(["cmake", "--build", build, "-j2", "--target", "detexture", "peers"], check=True)
+
+
+# --------------------------------------------------------------------------
+# Tuning the peers
+# --------------------------------------------------------------------------
+
+
+def grid_points(peer):
+    grid = PEER_GRIDS[peer]
+    keys = list(grid)
+    return [dict(zip(keys, values)) for values in itertools.product(*(grid[k] for k in keys))]
+
+
+def params_label(peer, params):
+    return ", ".join(f"{k}={v}" for k, v in params.items())
+
+
+def rank(values):
+    """Ranks (1 = smallest) with ties sharing their mean rank; None ranks last."""
+    order = sorted(range(len(values)), key=lambda i: (values[i] is None, values[i] if values[i] is not None else 0))
+    ranks = [0.0] * len(values)
+    i = 0
+    while i < len(order):
+        j = i
+        while j + 1 < len(order) and values[order[j + 1]] == values[order[i]]:
+            j += 1
+        for k in range(i, j + 1):
+            ranks[order[k]] = (i + j) / 2 + 1
+        i = j + 1
+    return ranks
+
+
+def tune(args):
+    build = os.path.abspath(args.build)
+    ensure_built(build, not args.no_build)
+    work = os.path.abspath(args.work or os.path.join(build, "bench-tune"))
+    os.makedirs(work, exist_ok=True)
+    t_start = time.monotonic()
+    cases = SUITE
+    log(f"tuning peers on {len(cases)} cases x {args.points} points in {work}")
+    inputs = {c.name: synthesize(build, c, args.points, work) for c in cases}
+    peers = [p for p in PEER_ORDER if (not args.peers or p in args.peers.split(","))]
+    result = {}
+    if os.path.exists(PEER_PARAMS_FILE):
+        with open(PEER_PARAMS_FILE) as f:
+            result = json.load(f)
+    result.setdefault("peers", {})
+
+    for peer in peers:
+        prog = peer_program(build, peer)
+        if prog is None:
+            log(f"{peer}: not built / not installed, skipped")
+            continue
+        grid = grid_points(peer)
+        jobs = []
+        for gi, params in enumerate(grid):
+            for c in cases:
+                jobs.append((gi, params, c))
+
+        def one(job):
+            gi, params, c = job
+            ply, gt = inputs[c.name]
+            out = os.path.join(work, f"{c.name}.{peer}.{gi}.ply")
+            cmd = [prog, ply, out] + peer_args(peer, params, c, args.points, threads=1)
+            ok, stdout, msg = run(cmd, out[:-4] + ".log", args.timeout)
+            if not ok:
+                return gi, c.name, None, msg
+            m = compare(build, out, gt)
+            m["seconds"] = last_seconds(stdout)
+            os.remove(out)
+            return gi, c.name, m, ""
+
+        log(f"{peer}: {len(grid)} settings x {len(cases)} cases ({args.jobs} at a time, 1 thread each)")
+        metrics = {}
+        with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+            for gi, cname, m, msg in pool.map(one, jobs):
+                metrics[(gi, cname)] = m
+                if m is None:
+                    log(f"  {peer} [{params_label(peer, grid[gi])}] {cname}: FAILED {msg}")
+        # Criterion: mean over cases of the rank (within this peer's grid) of the
+        # residual texture (signed std) and of the mean normal error.
+        scores = [0.0] * len(grid)
+        for c in cases:
+            res = [metrics[(gi, c.name)]["signed_std"] if metrics[(gi, c.name)] else None
+                   for gi in range(len(grid))]
+            ang = [metrics[(gi, c.name)]["normal_angle_mean_degrees"] if metrics[(gi, c.name)] else None
+                   for gi in range(len(grid))]
+            for gi, (a, b) in enumerate(zip(rank(res), rank(ang))):
+                scores[gi] += (a + b) / 2 / len(cases)
+        best = min(range(len(grid)), key=lambda gi: scores[gi])
+        table = []
+        for gi, params in enumerate(grid):
+            row = {"params": params, "mean_rank": round(scores[gi], 3), "per_case": {}}
+            for c in cases:
+                m = metrics[(gi, c.name)]
+                row["per_case"][c.name] = None if m is None else {
+                    "signed_std": m["signed_std"], "normal_angle": m["normal_angle_mean_degrees"],
+                    "dmean": m["dmean"], "seconds": m["seconds"]}
+            table.append(row)
+        result["peers"][peer] = {"params": grid[best], "mean_rank": round(scores[best], 3),
+                                 "grid": PEER_GRIDS[peer], "results": table}
+        log(f"{peer}: best {params_label(peer, grid[best])} (mean rank {scores[best]:.2f} of {len(grid)})")
+        for gi in sorted(range(len(grid)), key=lambda gi: scores[gi])[:5]:
+            log(f"    {scores[gi]:6.2f}  {params_label(peer, grid[gi])}")
+
+    result["criterion"] = ("for each case, rank the grid's settings by residual texture (signed std of "
+                           "the distance to the ground truth) and by mean normal error; a setting's score "
+                           "is the mean over cases of the average of its two ranks; lowest score wins")
+    result["tuned_points"] = args.points
+    result["suite"] = [c.name for c in cases]
+    result["date"] = datetime.date.today().isoformat()
+    result["command"] = "bench/tune_peers " + " ".join(sys.argv[2:])
+    with open(PEER_PARAMS_FILE, "w") as f:
+        json.dump(result, f, indent=1)
+        f.write("\n")
+    log(f"wrote {PEER_PARAMS_FILE} in {time.monotonic() - t_start:.0f} s")
+
+
+# --------------------------------------------------------------------------
+# The benchmark
+# --------------------------------------------------------------------------
+
+METRIC_COLUMNS = [
+    # header, key, format
+    ("Dmean", "dmean", "{:.5f}"),
+    ("Dmax", "dmax", "{:.4f}"),
+    ("σ", "dstd", "{:.5f}"),
+    ("residual texture", "signed_std", "{:.5f}"),
+    ("normal error °", "normal_angle_mean_degrees", "{:.2f}"),
+    ("% ≤ 10°", "normals_within_10_degrees_percent", "{:.1f}"),
+    ("coverage mean", "coverage_mean", "{:.5f}"),
+]
+
+
+def machine_description():
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return f"{os.cpu_count()} cores (nproc {os.cpu_count()}), {cpu}"
+
+
+def git_revision():
+    try:
+        rev = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"],
+                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", REPO, "status", "--porcelain", "--untracked-files=no",
+                                "src", "include", "app"],
+                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True).stdout.strip()
+        return rev + (" (src/include/app modified)" if dirty else "")
+    except OSError:
+        return "unknown"
+
+
+def load_peer_params():
+    if not os.path.exists(PEER_PARAMS_FILE):
+        return {}
+    with open(PEER_PARAMS_FILE) as f:
+        return json.load(f).get("peers", {})
+
+
+def quality(args):
+    t_start = time.monotonic()
+    build = os.path.abspath(args.build)
+    ensure_built(build, not args.no_build)
+    work = os.path.abspath(args.work or os.path.join(build, "bench-quality"))
+    os.makedirs(work, exist_ok=True)
+    cases = [c for c in SUITE if not args.cases or c.name in args.cases.split(",")]
+    peer_params = load_peer_params()
+    methods = [v[0] for v in DETEXTURE_VARIANTS] + PEER_ORDER
+    if args.methods:
+        methods = [m for m in methods if m in args.methods.split(",")]
+    status = {}  # method -> reason it was skipped
+    for peer in PEER_ORDER:
+        if peer not in methods:
+            continue
+        if peer_program(build, peer) is None:
+            status[peer] = "not built" if peer != "meshlab-rimls" else "meshlabserver not installed"
+        elif peer not in peer_params:
+            status[peer] = "no tuned parameters in bench/peer_params.json"
+
+    runs = {}  # (case, method) -> {"out":..., "seconds":..., "error":...}
+    for case in cases:
+        ply, gt = synthesize(build, case, POINTS, work)
+        runs[(case.name, "input")] = {"out": ply, "seconds": None, "error": ""}
+        for method in methods:
+            if method in status:
+                continue
+            out = os.path.join(work, f"{case.name}.{method}.ply")
+            logp = out[:-4] + ".log"
+            if method in dict((v[0], v) for v in DETEXTURE_VARIANTS):
+                extra = dict((v[0], v[1]) for v in DETEXTURE_VARIANTS)[method]
+                stats = out[:-4] + ".stats.json"
+                cmd = [detexture_bin(build), ply, "-o", out, "-f", "-q", "--stats", stats] + \
+                    detexture_rule(case) + extra
+                ok, stdout, msg = run(cmd, logp, args.timeout)
+                secs = detexture_seconds(stats) if ok else None
+            else:
+                cmd = [peer_program(build, method), ply, out] + \
+                    peer_args(method, peer_params[method]["params"], case, POINTS)
+                if os.path.exists(out):
+                    os.remove(out)
+                ok, stdout, msg = run(cmd, logp, args.timeout)
+                secs = last_seconds(stdout) if ok else None
+            runs[(case.name, method)] = {"out": out, "seconds": secs, "error": msg, "cmd": cmd}
+            log(f"{case.name:26s} {method:20s} " + (f"{secs:7.1f} s" if ok else f"FAILED {msg}"))
+
+    # Metrics, after every timed run (so comparisons never overlap a timed run).
+    def one(key):
+        r = runs[key]
+        if r["error"]:
+            return key, None
+        gt = os.path.join(work, key[0] + ".gt.ply")
+        return key, compare(build, r["out"], gt)
+
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        for key, m in pool.map(one, list(runs)):
+            runs[key]["metrics"] = m
+    with open(os.path.join(work, "metrics.json"), "w") as f:
+        json.dump({f"{k[0]}/{k[1]}": v for k, v in runs.items()}, f, indent=1)
+    total = time.monotonic() - t_start
+    log(f"benchmark done in {total:.0f} s")
+    text = render(cases, methods, status, runs, peer_params, total, args)
+    if args.no_results:
+        print(text)
+    else:
+        write_results(text)
+        log(f"wrote the quality section of {RESULTS_FILE}")
+
+
+def method_label(m):
+    return PEER_LABEL.get(m, m)
+
+
+def render(cases, methods, status, runs, peer_params, total, args):
+    L = []
+    cmd = "bench/quality" + ("" if not sys.argv[2:] else " " + " ".join(sys.argv[2:]))
+    L.append("## Quality against ground truth (`bench/quality`)")
+    L.append("")
+    L.append(f"Produced by `{cmd}` on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}, "
+             f"{machine_description()}, detexture {git_revision()}. "
+             f"Whole run (synthesis, all methods, all comparisons): **{total / 60:.1f} min** "
+             f"(machine shared with other work, so times are noisy). "
+             f"Suite, parameter rule and peer tuning: bench/README.md.")
+    L.append("")
+    L.append("Columns: distances to the ground-truth surface (point-to-plane at the nearest "
+             "ground-truth sample, model units; every base shape fits the unit box): Dmean, Dmax, "
+             "σ (the paper's Table 3); *residual texture* = standard deviation of the signed distance "
+             "(texture and noise left); normal error = mean angle to the true normal, and share within "
+             "10°; coverage mean = mean distance from a ground-truth sample to the nearest result point "
+             "(holes, clustering); seconds = the method's own wall time (no I/O), default threads. "
+             "Best value per case among the methods in **bold** (not for Dmax, coverage, seconds).")
+    L.append("")
+    # Method descriptions
+    L.append("| method | what | parameters |")
+    L.append("|---|---|---|")
+    for name, extra, what in DETEXTURE_VARIANTS:
+        if name in methods:
+            L.append(f"| {name} | {what} | r = 1.5 R, σs = r{(', `' + ' '.join(extra) + '`') if extra else ''} |")
+    for peer in PEER_ORDER:
+        if peer not in methods:
+            continue
+        if peer in status:
+            L.append(f"| {method_label(peer)} | skipped: {status[peer]} | |")
+        else:
+            p = peer_params[peer]["params"]
+            L.append(f"| {method_label(peer)} | peer, tuned (bench/peer_params.json) | {params_label(peer, p)} |")
+    L.append("")
+
+    active = [m for m in methods if m not in status]
+    best_keys = ["dmean", "dstd", "signed_std", "normal_angle_mean_degrees"]
+    for case in cases:
+        L.append(f"### {case.name}")
+        L.append("")
+        L.append(f"{case.what}. `detexture synth {' '.join(case.synth_args(POINTS))}`; "
+                 f"detexture `{' '.join(detexture_rule(case))}`.")
+        L.append("")
+        L.append("| method | " + " | ".join(h for h, _, _ in METRIC_COLUMNS) + " | seconds |")
+        L.append("|---|" + "---:|" * (len(METRIC_COLUMNS) + 1))
+        best = {}
+        for k in best_keys:
+            vals = [runs[(case.name, m)]["metrics"][k] for m in active
+                    if runs.get((case.name, m), {}).get("metrics")]
+            best[k] = min(vals) if vals else None
+        best["normals_within_10_degrees_percent"] = max(
+            (runs[(case.name, m)]["metrics"]["normals_within_10_degrees_percent"] for m in active
+             if runs.get((case.name, m), {}).get("metrics")), default=None)
+        for m in ["input"] + active:
+            r = runs.get((case.name, m))
+            if r is None:
+                continue
+            if r.get("metrics") is None:
+                L.append(f"| {method_label(m)} | failed: {r['error']} |" + " |" * len(METRIC_COLUMNS))
+                continue
+            cells = []
+            for _, key, f in METRIC_COLUMNS:
+                v = r["metrics"][key]
+                s = "n/a" if v is None else f.format(v)
+                if m != "input" and key in best and best[key] is not None and v == best[key]:
+                    s = f"**{s}**"
+                cells.append(s)
+            secs = "" if r["seconds"] is None else f"{r['seconds']:.1f}"
+            L.append(f"| {method_label(m)} | " + " | ".join(cells) + f" | {secs} |")
+        L.append("")
+
+    # Summary: mean ranks and wins across cases.
+    L.append("### Summary across the suite")
+    L.append("")
+    L.append("Rank 1 = best in the case among the methods listed (input excluded); mean over the "
+             f"{len(cases)} cases. Wins = cases where the method is best (ties count for each).")
+    L.append("")
+    L.append("| method | residual texture: mean rank | wins | normal error: mean rank | wins "
+             "| Dmean: mean rank | wins | total seconds |")
+    L.append("|---|---:|---:|---:|---:|---:|---:|---:|")
+    summary = {m: {"res": [], "ang": [], "dmean": [], "secs": 0.0} for m in active}
+    for case in cases:
+        ms = [m for m in active if runs.get((case.name, m), {}).get("metrics")]
+        for key, slot in (("signed_std", "res"), ("normal_angle_mean_degrees", "ang"), ("dmean", "dmean")):
+            vals = [runs[(case.name, m)]["metrics"][key] for m in ms]
+            for m, rk in zip(ms, rank(vals)):
+                summary[m][slot].append(rk)
+        for m in ms:
+            summary[m]["secs"] += runs[(case.name, m)]["seconds"] or 0.0
+    for m in active:
+        s = summary[m]
+        cells = []
+        for slot in ("res", "ang", "dmean"):
+            if s[slot]:
+                cells.append(f"{sum(s[slot]) / len(s[slot]):.2f}")
+                cells.append(str(sum(1 for x in s[slot] if x == 1.0)))
+            else:
+                cells += ["", ""]
+        L.append(f"| {method_label(m)} | " + " | ".join(cells) + f" | {s['secs']:.0f} |")
+    L.append("")
+
+    # Where the full method is not best: listed automatically.
+    if "detexture" in active:
+        L.append("### Where the full method is not best")
+        L.append("")
+        lines = []
+        for case in cases:
+            me = runs.get((case.name, "detexture"), {}).get("metrics")
+            if not me:
+                lines.append(f"- {case.name}: the full method failed")
+                continue
+            for label, key, lower in (("residual texture", "signed_std", True),
+                                      ("normal error", "normal_angle_mean_degrees", True),
+                                      ("Dmean", "dmean", True)):
+                better = []
+                for m in active:
+                    if m == "detexture":
+                        continue
+                    o = runs.get((case.name, m), {}).get("metrics")
+                    if o and o[key] < me[key]:
+                        better.append(f"{method_label(m)} {o[key]:.4g}")
+                if better:
+                    lines.append(f"- {case.name}, {label}: detexture {me[key]:.4g}; better: "
+                                 + ", ".join(better))
+        L += lines or ["- none: the full method is best on residual texture, normal error and Dmean in every case."]
+        L.append("")
+    return "\n".join(L)
+
+
+def write_results(text):
+    if os.path.exists(RESULTS_FILE):
+        with open(RESULTS_FILE) as f:
+            content = f.read()
+    else:
+        content = ("# detexture benchmark results\n\n" + QUALITY_BEGIN + "\n" + QUALITY_END + "\n\n"
+                   + SPEED_BEGIN + "\n" + SPEED_END + "\n")
+    if QUALITY_BEGIN not in content or QUALITY_END not in content:
+        content = content.rstrip("\n") + "\n\n" + QUALITY_BEGIN + "\n" + QUALITY_END + "\n"
+    head, rest = content.split(QUALITY_BEGIN, 1)
+    _, tail = rest.split(QUALITY_END, 1)
+    with open(RESULTS_FILE, "w") as f:
+        f.write(head + QUALITY_BEGIN + "\n" + text.rstrip("\n") + "\n" + QUALITY_END + tail)
+
+
+def main():
+    ap = argparse.ArgumentParser(prog="bench/quality_suite.py")
+    sub = ap.add_subparsers(dest="command", required=True)
+    default_build = os.environ.get("DETEXTURE_BUILD", os.path.join(REPO, "build"))
+    q = sub.add_parser("quality", help="run the benchmark and write bench/RESULTS.md")
+    t = sub.add_parser("tune", help="grid-search the peers and write bench/peer_params.json")
+    for p in (q, t):
+        p.add_argument("build", nargs="?", default=default_build,
+                       help="build directory (default $DETEXTURE_BUILD or build)")
+        p.add_argument("--work", help="folder for the clouds (default BUILD/bench-quality or bench-tune)")
+        p.add_argument("--no-build", action="store_true", help="fail instead of building what is missing")
+        p.add_argument("--timeout", type=float, default=600, help="seconds per method run (default 600)")
+    q.add_argument("--cases", help="comma-separated subset of cases (the table then covers only those)")
+    q.add_argument("--methods", help="comma-separated subset of methods")
+    q.add_argument("--no-results", action="store_true", help="print the Markdown instead of writing RESULTS.md")
+    t.add_argument("--points", type=int, default=TUNE_POINTS, help=f"points per case (default {TUNE_POINTS})")
+    t.add_argument("--peers", help="comma-separated subset of peers")
+    t.add_argument("--jobs", type=int, default=2, help="runs at a time, 1 thread each (default 2)")
+    args = ap.parse_args()
+    if args.command == "quality":
+        quality(args)
+    else:
+        tune(args)
+
+
+if __name__ == "__main__":
+    main()
