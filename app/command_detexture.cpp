@@ -79,7 +79,14 @@ class ProgressPrinter {
 void add_length(CLI::App& app, const std::string& flags, Length& target,
                 const std::string& description) {
   app.add_option_function<std::string>(
-         flags, [&target](const std::string& text) { target = parse_length(text); },
+         flags,
+         [&target, flags](const std::string& text) {
+           try {
+             target = parse_length(text);
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError(flags, e.what());
+           }
+         },
          description + " [default: " + to_string(target) + "]")
       ->type_name("LENGTH");
 }
@@ -145,8 +152,9 @@ int run_detexture(int argc, char** argv) {
       "detexture: remove geometric surface texture (scales, knurls, engravings, bumps) from a "
       "point cloud while keeping its underlying shape and sharp structures (Sun et al., "
       "Reliable Rolling-guided Point Normal Filtering for Surface Texture Removal, PG 2019).\n"
-      "Lengths are in the cloud's units, or a fraction of the bounding-box diagonal with a "
-      "trailing d (0.02d).\nOther commands: 'detexture synth --help', 'detexture compare --help'.",
+      "Lengths are in the cloud's units, a fraction of the bounding-box diagonal with a "
+      "trailing d (0.02d), or a multiple of the radius r with a trailing r (0.5r).\nOther "
+      "commands: 'detexture synth --help', 'detexture compare --help'.",
       "detexture"};
   app.get_formatter()->column_width(34);
   app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
@@ -259,7 +267,7 @@ int run_detexture(int argc, char** argv) {
                  "layer on its own");
   app.add_option("-j,--threads", threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 4096));
   app.add_flag("-q,--quiet", quiet, "No progress or summary on stderr");
   std::string stats_path;
   app.add_option("--stats", stats_path,

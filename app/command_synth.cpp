@@ -97,6 +97,12 @@ int run_synth(int argc, char** argv) {
                  "Random seed; the same seed gives the same files on any thread count")
       ->capture_default_str();
   app.add_flag("--ascii", ascii, "Write ASCII PLY instead of binary little endian");
+  bool single = false, no_normals = false;
+  app.add_flag("--float", single,
+               "Write positions, normals and texture_height in single precision (half the size)");
+  app.add_flag("--no-normals", no_normals,
+               "Leave the normals out of the textured cloud, as in a raw x y z scan (the ground "
+               "truth keeps its normals)");
 
   try {
     app.parse(argc, argv);
@@ -128,9 +134,10 @@ int run_synth(int argc, char** argv) {
   try {
     PointCloud cloud;
     cloud.positions = std::move(synth.positions);
-    cloud.normals = std::move(synth.normals);
-    cloud.extras.push_back(
-        {"texture_height", ScalarType::Float64, std::move(synth.texture_heights)});
+    if (!no_normals) cloud.normals = std::move(synth.normals);
+    const ScalarType real = single ? ScalarType::Float32 : ScalarType::Float64;
+    cloud.position_type = cloud.normal_type = real;
+    cloud.extras.push_back({"texture_height", real, std::move(synth.texture_heights)});
     cloud.extras.push_back({"is_texture", ScalarType::UInt8,
                             std::vector<double>(synth.is_texture.begin(), synth.is_texture.end())});
     cloud.comments.push_back(describe(params));
@@ -139,6 +146,7 @@ int run_synth(int argc, char** argv) {
     PointCloud truth;
     truth.positions = std::move(synth.ground_truth_positions);
     truth.normals = std::move(synth.ground_truth_normals);
+    truth.position_type = truth.normal_type = real;
     truth.comments.push_back("ground truth (untextured base surface) of " + describe(params));
     write_point_cloud(ground_truth, truth, options);
 

@@ -13,11 +13,8 @@ namespace {
 
 RemoveTextureParams params_for(double radius, double lambda) {
   RemoveTextureParams p;
-  p.radius = {radius, false};
-  p.sigma_s = {radius, false};
-  p.sigma_p = {radius / 2, false};
-  p.solve_radius = {radius / 2, false};
-  p.lambda = {lambda, false};
+  p.radius = {radius, Length::Unit::Absolute};
+  p.lambda = {lambda, Length::Unit::Absolute};
   return p;
 }
 
@@ -126,13 +123,18 @@ TEST(RemoveTexture, RejectsBadInput) {
   Positions same(4, 3);
   same.setOnes();
   EXPECT_THROW(remove_texture(same, Normals(), p), std::invalid_argument);
+  p.radius = parse_length("0.5r");
+  EXPECT_THROW(remove_texture(s.P, s.N, p), std::invalid_argument);
+  p.radius = parse_length("0.2");
   p.texture.delta = 1.5;
   EXPECT_THROW(remove_texture(s.P, s.N, p), std::invalid_argument);
 }
 
 TEST(Length, ParsesAbsoluteAndRelative) {
-  EXPECT_DOUBLE_EQ(parse_length("0.5").resolve(10.0), 0.5);
-  EXPECT_DOUBLE_EQ(parse_length("0.02d").resolve(10.0), 0.2);
+  EXPECT_DOUBLE_EQ(parse_length("0.5").resolve(10.0, 3.0), 0.5);
+  EXPECT_DOUBLE_EQ(parse_length("0.02d").resolve(10.0, 3.0), 0.2);
+  EXPECT_DOUBLE_EQ(parse_length("0.5r").resolve(10.0, 3.0), 1.5);
+  EXPECT_EQ(to_string(parse_length("0.5r")), "0.5r");
   EXPECT_THROW(parse_length("abc"), std::invalid_argument);
   EXPECT_THROW(parse_length("-1"), std::invalid_argument);
   EXPECT_THROW(parse_length("0d"), std::invalid_argument);

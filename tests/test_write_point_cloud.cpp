@@ -372,3 +372,34 @@ TEST(WritePointCloud, BadTargetsAndCloudsThrowNamingTheFile) {
 
 }  // namespace
 }  // namespace detexture
+
+namespace detexture {
+namespace {
+
+// A float cloud stays a float cloud: the output is not twice the input's size.
+TEST(PlyRoundTrip, SinglePrecisionPositionsStaySingle) {
+  const auto dir = std::filesystem::temp_directory_path() / "detexture_single_precision";
+  std::filesystem::create_directories(dir);
+  PointCloud cloud;
+  cloud.positions.resize(2, 3);
+  cloud.positions << 0.5, 0.25, 1.0, 2.0, 3.0, 4.0;
+  cloud.normals.resize(2, 3);
+  cloud.normals << 0, 0, 1, 1, 0, 0;
+  cloud.position_type = cloud.normal_type = ScalarType::Float32;
+  const std::string a = (dir / "a.ply").string(), b = (dir / "b.ply").string();
+  write_point_cloud(a, cloud);
+  const PointCloud back = read_point_cloud(a);
+  EXPECT_EQ(back.position_type, ScalarType::Float32);
+  EXPECT_EQ(back.normal_type, ScalarType::Float32);
+  EXPECT_EQ(back.positions, cloud.positions);
+  write_point_cloud(b, back);
+  EXPECT_EQ(std::filesystem::file_size(a), std::filesystem::file_size(b));
+  cloud.position_type = cloud.normal_type = ScalarType::Float64;
+  write_point_cloud(b, cloud);
+  EXPECT_EQ(read_point_cloud(b).position_type, ScalarType::Float64);
+  EXPECT_GT(std::filesystem::file_size(b), std::filesystem::file_size(a));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace detexture

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
 
 namespace detexture {
 
@@ -16,6 +17,9 @@ using Normals = Matrix3;
 /// Progress report from a long stage: a fraction in [0, 1], non-decreasing.
 /// Stages call it from one thread at a time, at most about a hundred times.
 using ProgressFn = std::function<void(double fraction)>;
+
+/// A number as a user would write it ("2", "0.25", "1e-05"), for messages.
+std::string number_text(double value);
 
 /// Length of the bounding-box diagonal of P (0 for fewer than two points).
 double bounding_box_diagonal(const Positions& P);

@@ -27,8 +27,9 @@ struct PositionsAdaptor {
   }
 };
 
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>, PositionsAdaptor, 3, std::uint32_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>,
+                                        PositionsAdaptor, 3, std::uint32_t>;
 
 constexpr std::size_t kBlock = 2048;
 
@@ -86,7 +87,7 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
                                    const ProgressFn& progress) {
   if (!(params.radius > 0.0) || !std::isfinite(params.radius))
     throw std::invalid_argument("the neighborhood radius must be a positive number, got " +
-                                std::to_string(params.radius));
+                                number_text(params.radius));
   if (params.max_neighbors < 0)
     throw std::invalid_argument("the neighbor cap must be 0 (no cap) or positive");
   check_size(P);
@@ -98,13 +99,14 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
   const std::size_t cap = params.max_neighbors > 0 ? static_cast<std::size_t>(params.max_neighbors)
                                                    : std::numeric_limits<std::size_t>::max();
   nanoflann::SearchParams search(32, 0.0f, false);
-  return build(n, progress, [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
-    const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
-    found.clear();
-    tree.radiusSearch(q, radius_sq, found, search);
-    sort_by_distance(found);
-    if (found.size() > cap) found.resize(cap);
-  });
+  return build(n, progress,
+               [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
+                 const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+                 found.clear();
+                 tree.radiusSearch(q, radius_sq, found, search);
+                 sort_by_distance(found);
+                 if (found.size() > cap) found.resize(cap);
+               });
 }
 
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress) {
@@ -115,17 +117,18 @@ Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& pro
   PositionsAdaptor adaptor{P};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  return build(n, progress, [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
-    const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
-    thread_local std::vector<std::uint32_t> idx;
-    thread_local std::vector<double> dist;
-    idx.resize(kk);
-    dist.resize(kk);
-    const std::size_t got = tree.knnSearch(q, kk, idx.data(), dist.data());
-    found.clear();
-    for (std::size_t t = 0; t < got; ++t) found.emplace_back(idx[t], dist[t]);
-    sort_by_distance(found);
-  });
+  return build(n, progress,
+               [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
+                 const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+                 thread_local std::vector<std::uint32_t> idx;
+                 thread_local std::vector<double> dist;
+                 idx.resize(kk);
+                 dist.resize(kk);
+                 const std::size_t got = tree.knnSearch(q, kk, idx.data(), dist.data());
+                 found.clear();
+                 for (std::size_t t = 0; t < got; ++t) found.emplace_back(idx[t], dist[t]);
+                 sort_by_distance(found);
+               });
 }
 
 NeighborhoodStats neighborhood_stats(const Neighborhoods& N, std::size_t min_count) {

@@ -354,6 +354,11 @@ PointCloud read_ply(std::string_view bytes, const std::string& path, ReadReport&
 
   PointCloud cloud;
   cloud.comments = header.comments;
+  // Keep single precision when the file had it, so output files do not double.
+  for (const PlyProperty& p : vertex->properties) {
+    if (p.name == "x" && p.type == ScalarType::Float32) cloud.position_type = ScalarType::Float32;
+    if (p.name == "nx" && p.type == ScalarType::Float32) cloud.normal_type = ScalarType::Float32;
+  }
   if (header.encoding == PlyEncoding::Ascii) {
     AsciiRows rows(bytes, header, path);
     read_elements(rows, header, layout, cloud, report);

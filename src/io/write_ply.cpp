@@ -88,6 +88,12 @@ void check_names(const PointCloud& cloud, const std::string& path) {
       throw_write_error(path, "a comment contains a line break");
 }
 
+// Positions and normals are written as float or double; anything else asked
+// for (an integer type) would lose the filtered values, so it becomes double.
+ScalarType written_type(ScalarType requested) {
+  return requested == ScalarType::Float32 ? ScalarType::Float32 : ScalarType::Float64;
+}
+
 std::string header_text(const PointCloud& cloud, PlyEncoding encoding) {
   std::string h = "ply\nformat ";
   h += encoding == PlyEncoding::Ascii                ? "ascii"
@@ -96,9 +102,11 @@ std::string header_text(const PointCloud& cloud, PlyEncoding encoding) {
   h += " 1.0\n";
   for (const std::string& comment : cloud.comments) h += "comment " + comment + "\n";
   h += "element vertex " + std::to_string(cloud.size()) + "\n";
-  for (const char* name : {"x", "y", "z"}) h += std::string("property double ") + name + "\n";
+  const std::string position_type = ply_type_name(written_type(cloud.position_type));
+  const std::string normal_type = ply_type_name(written_type(cloud.normal_type));
+  for (const char* name : {"x", "y", "z"}) h += "property " + position_type + " " + name + "\n";
   if (cloud.has_normals())
-    for (const char* name : {"nx", "ny", "nz"}) h += std::string("property double ") + name + "\n";
+    for (const char* name : {"nx", "ny", "nz"}) h += "property " + normal_type + " " + name + "\n";
   for (const PointProperty& extra : cloud.extras)
     h += std::string("property ") + ply_type_name(extra.type) + " " + extra.name + "\n";
   for (const OtherElement& element : cloud.other_elements) {
@@ -168,10 +176,12 @@ void write_ply(OutputBuffer& out, const PointCloud& cloud, PlyEncoding encoding,
 
   RowWriter writer(out, encoding);
   const bool normals = cloud.has_normals();
+  const ScalarType position_type = written_type(cloud.position_type);
+  const ScalarType normal_type = written_type(cloud.normal_type);
   for (Eigen::Index i = 0; i < cloud.positions.rows(); ++i) {
-    for (int d = 0; d < 3; ++d) writer.value(cloud.positions(i, d), ScalarType::Float64);
+    for (int d = 0; d < 3; ++d) writer.value(cloud.positions(i, d), position_type);
     if (normals)
-      for (int d = 0; d < 3; ++d) writer.value(cloud.normals(i, d), ScalarType::Float64);
+      for (int d = 0; d < 3; ++d) writer.value(cloud.normals(i, d), normal_type);
     for (const PointProperty& extra : cloud.extras)
       writer.value(extra.values[static_cast<std::size_t>(i)], extra.type);
     writer.end_row();

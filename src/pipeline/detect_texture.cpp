@@ -107,25 +107,25 @@ PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std:
 void validate(const DetectTextureParams& p) {
   if (!(p.lambda > 0.0) || !std::isfinite(p.lambda))
     throw std::invalid_argument("lambda (RANSAC distance threshold) must be positive, got " +
-                                std::to_string(p.lambda));
+                                number_text(p.lambda));
   if (!(p.delta > 0.0 && p.delta < 1.0))
     throw std::invalid_argument("delta (inlier proportion) must lie in (0, 1), got " +
-                                std::to_string(p.delta));
+                                number_text(p.delta));
   if (!(p.confidence > 0.0 && p.confidence < 1.0))
     throw std::invalid_argument("the RANSAC confidence must lie in (0, 1), got " +
-                                std::to_string(p.confidence));
+                                number_text(p.confidence));
   if (p.planes < 1 || p.planes > 3)
     throw std::invalid_argument("the number of planes per neighborhood must be 1, 2 or 3, got " +
-                                std::to_string(p.planes));
+                                number_text(p.planes));
   if (!(p.second_plane_share > 0.0 && p.second_plane_share < 1.0))
     throw std::invalid_argument("the second plane's share must lie in (0, 1), got " +
-                                std::to_string(p.second_plane_share));
+                                number_text(p.second_plane_share));
   if (!(p.second_plane_angle_deg > 0.0 && p.second_plane_angle_deg <= 90.0))
     throw std::invalid_argument("the second plane's angle must lie in (0, 90] degrees, got " +
-                                std::to_string(p.second_plane_angle_deg));
+                                number_text(p.second_plane_angle_deg));
   if (p.max_iterations < 1)
     throw std::invalid_argument("the RANSAC iteration cap must be at least 1, got " +
-                                std::to_string(p.max_iterations));
+                                number_text(p.max_iterations));
 }
 
 TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,

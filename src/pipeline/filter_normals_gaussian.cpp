@@ -9,7 +9,7 @@ namespace detexture {
 void validate(const FilterNormalsGaussianParams& p) {
   if (!(p.sigma_s > 0.0) || !std::isfinite(p.sigma_s))
     throw std::invalid_argument("sigma_s (spatial scale) must be positive, got " +
-                                std::to_string(p.sigma_s));
+                                number_text(p.sigma_s));
 }
 
 GaussianFilterResult filter_normals_gaussian(const Positions& P, const Normals& normals,

@@ -10,16 +10,16 @@ namespace detexture {
 void validate(const FilterNormalsRollingParams& p) {
   if (!(p.sigma_s > 0.0) || !std::isfinite(p.sigma_s))
     throw std::invalid_argument("sigma_s (spatial scale) must be positive, got " +
-                                std::to_string(p.sigma_s));
+                                number_text(p.sigma_s));
   if (!(p.sigma_r_deg > 0.0 && p.sigma_r_deg <= 180.0))
     throw std::invalid_argument("sigma_r (range scale) must lie in (0, 180] degrees, got " +
-                                std::to_string(p.sigma_r_deg));
+                                number_text(p.sigma_r_deg));
   if (p.iterations < 0)
     throw std::invalid_argument("the number of rolling iterations cannot be negative, got " +
-                                std::to_string(p.iterations));
+                                number_text(p.iterations));
   if (!(p.tolerance_deg >= 0.0))
     throw std::invalid_argument("the rolling tolerance cannot be negative, got " +
-                                std::to_string(p.tolerance_deg));
+                                number_text(p.tolerance_deg));
 }
 
 RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,

@@ -12,25 +12,30 @@ namespace detexture {
 
 Length parse_length(const std::string& text) {
   std::string number = text;
-  bool relative = false;
+  Length::Unit unit = Length::Unit::Absolute;
   if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
-    relative = true;
+    unit = Length::Unit::Diagonal;
+    number.pop_back();
+  } else if (!number.empty() && (number.back() == 'r' || number.back() == 'R')) {
+    unit = Length::Unit::Radius;
     number.pop_back();
   }
   char* end = nullptr;
   const double value = number.empty() ? 0.0 : std::strtod(number.c_str(), &end);
   if (number.empty() || end != number.c_str() + number.size() || !std::isfinite(value))
     throw std::invalid_argument("'" + text +
-                                "' is not a length: give a number in the cloud's units, or a "
-                                "fraction of the bounding-box diagonal such as 0.02d");
+                                "' is not a length: give a number in the cloud's units, a "
+                                "fraction of the bounding-box diagonal such as 0.02d, or a "
+                                "multiple of the radius r such as 0.5r");
   if (!(value > 0.0)) throw std::invalid_argument("length '" + text + "' must be positive");
-  return {value, relative};
+  return {value, unit};
 }
 
 std::string to_string(const Length& length) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g%s", length.value, length.relative ? "d" : "");
-  return buf;
+  const char* suffix = length.unit == Length::Unit::Diagonal ? "d"
+                       : length.unit == Length::Unit::Radius ? "r"
+                                                             : "";
+  return number_text(length.value) + suffix;
 }
 
 void validate(const RemoveTextureParams& p) {
@@ -42,6 +47,10 @@ void validate(const RemoveTextureParams& p) {
     if (!(len.value > 0.0) || !std::isfinite(len.value))
       throw std::invalid_argument(std::string(name) + " must be a positive length, got " +
                                   to_string(len));
+  if (p.radius.unit == Length::Unit::Radius)
+    throw std::invalid_argument(
+        "the radius r cannot be given in units of itself; use 0.02d or "
+        "a length in the cloud's units");
   if (p.max_neighbors < 0) throw std::invalid_argument("the neighbor cap cannot be negative");
   if (p.max_neighbors > 0 && p.max_neighbors < 3)
     throw std::invalid_argument("a neighbor cap below 3 leaves no plane to fit; use 0 or >= 3");
@@ -110,10 +119,10 @@ RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
   rep.diagonal = bounding_box_diagonal(P);
   if (!(rep.diagonal > 0.0))
     throw std::invalid_argument("all points coincide: the cloud has no extent to filter");
-  rep.radius = params.radius.resolve(rep.diagonal);
-  rep.lambda = params.lambda.resolve(rep.diagonal);
-  rep.sigma_s = params.sigma_s.resolve(rep.diagonal);
-  rep.sigma_p = params.sigma_p.resolve(rep.diagonal);
+  rep.radius = params.radius.resolve(rep.diagonal, 0.0);
+  rep.lambda = params.lambda.resolve(rep.diagonal, rep.radius);
+  rep.sigma_s = params.sigma_s.resolve(rep.diagonal, rep.radius);
+  rep.sigma_p = params.sigma_p.resolve(rep.diagonal, rep.radius);
 
   Neighborhoods R;
   {
@@ -203,7 +212,7 @@ RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
     StageClock clock(observer, rep, "update positions");
     UpdatePositionsParams up = params.update;
     up.sigma_p = rep.sigma_p;
-    up.solve_radius = params.solve_radius.resolve(rep.diagonal);
+    up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
     UpdatePositionsResult u =
         update_positions(P, filtered, R, result.is_texture, up, clock.progress());
     rep.update_isolated = u.isolated;

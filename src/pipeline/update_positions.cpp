@@ -12,10 +12,10 @@ namespace detexture {
 void validate(const UpdatePositionsParams& p) {
   if (!(p.sigma_p > 0.0) || !std::isfinite(p.sigma_p))
     throw std::invalid_argument("sigma_p (position weight scale) must be positive, got " +
-                                std::to_string(p.sigma_p));
+                                number_text(p.sigma_p));
   if (!(p.isotropy_deg > 0.0 && p.isotropy_deg <= 180.0))
     throw std::invalid_argument("the isotropy angle must lie in (0, 180] degrees, got " +
-                                std::to_string(p.isotropy_deg));
+                                number_text(p.isotropy_deg));
   if (!(p.anchor_surface >= 0.0))
     throw std::invalid_argument("the surface anchor weight cannot be negative");
   if (!(p.anchor_texture > 0.0))

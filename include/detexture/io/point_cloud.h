@@ -60,6 +60,11 @@ struct PointCloud {
   std::vector<OtherElement> other_elements;  ///< non-vertex elements, in file order
   /// PLY comment lines without "comment "; obj_info lines as "obj_info ...".
   std::vector<std::string> comments;
+  /// Precision of x, y, z (and of nx, ny, nz) in a PLY output: Float32 or
+  /// Float64 (any other type is written as Float64). The reader sets Float32
+  /// when the file stored them as float, so outputs keep the input's size.
+  ScalarType position_type = ScalarType::Float64;
+  ScalarType normal_type = ScalarType::Float64;
 
   std::size_t size() const { return static_cast<std::size_t>(positions.rows()); }
   bool has_normals() const { return normals.rows() == positions.rows() && normals.rows() > 0; }

@@ -22,35 +22,43 @@
 
 namespace detexture {
 
-/// A length given either in the cloud's units or as a fraction of the
-/// bounding-box diagonal d (written "0.02d" on the command line).
+/// A length given in the cloud's units ("0.5"), as a fraction of the
+/// bounding-box diagonal d ("0.02d"), or as a multiple of the neighborhood
+/// radius r ("0.5r"; not for r itself).
 struct Length {
+  enum class Unit { Absolute, Diagonal, Radius };
   double value = 0.0;
-  bool relative = true;  ///< value is a fraction of d
-  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
+  Unit unit = Unit::Absolute;
+  /// The length in the cloud's units, given d and the resolved r.
+  double resolve(double diagonal, double radius) const {
+    return unit == Unit::Diagonal ? value * diagonal
+           : unit == Unit::Radius ? value * radius
+                                  : value;
+  }
 };
 
-/// Parse "0.02d" (relative) or "0.5" (absolute); throws std::invalid_argument
-/// with a sentence for anything else or a non-positive value.
+/// Parse "0.5", "0.02d" or "0.5r"; throws std::invalid_argument with a
+/// sentence for anything else or a non-positive value.
 Length parse_length(const std::string& text);
 std::string to_string(const Length& length);
 
-/// Every parameter of the method. Lengths are resolved against the input's
-/// bounding-box diagonal d; the stage structs' own length fields are ignored
-/// and filled from these.
+/// Every parameter of the method. r is resolved against the input's
+/// bounding-box diagonal d, the other lengths by default against r, so that
+/// setting r alone rescales the whole method. The stage structs' own length
+/// fields are ignored and filled from these.
 struct RemoveTextureParams {
   /// r: radius of the neighborhoods R_i. Roughly the size of the largest
   /// texture feature you want gone.
-  Length radius{0.02, true};
+  Length radius{0.02, Length::Unit::Diagonal};
   /// λ: RANSAC distance threshold (Eq. 2). Bumps lower than λ count as surface.
-  Length lambda{0.002, true};
+  Length lambda{0.1, Length::Unit::Radius};
   /// σs: spatial scale of the normal filters (Eqs. 1, 3). Texture smaller than
   /// σs is smoothed away.
-  Length sigma_s{0.02, true};
+  Length sigma_s{1.0, Length::Unit::Radius};
   /// σp: spatial scale of the position-update weights (Eqs. 9-10).
-  Length sigma_p{0.01, true};
+  Length sigma_p{0.5, Length::Unit::Radius};
   /// Global position update: neighbors closer than this enter the solve.
-  Length solve_radius{0.01, true};
+  Length solve_radius{0.5, Length::Unit::Radius};
   /// Keep at most this many nearest neighbors in R_i (0 = all).
   int max_neighbors = 0;
   /// Neighbors used to estimate and orient normals when the input has none.

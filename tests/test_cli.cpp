@@ -1,0 +1,205 @@
+// The detexture command as a user runs it: files in, files out, exit codes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "detexture/io/read_point_cloud.h"
+#include "detexture/io/write_point_cloud.h"
+#include "test_support.h"
+
+namespace fs = std::filesystem;
+
+namespace detexture {
+namespace {
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("detexture_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Runs the CLI with args; returns the exit code and keeps stderr.
+  int run(const std::string& args) {
+    const std::string err = path("stderr.txt");
+    const std::string cmd =
+        std::string(DETEXTURE_CLI_PATH) + " " + args + " > " + path("stdout.txt") + " 2> " + err;
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    stderr_ = ss.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // A plane with a bump: small, fast, and the answer is known.
+  PointCloud bumpy(bool normals) const {
+    const auto s = test::bumpy_plane(41, 0.03, 0.05);
+    PointCloud c;
+    c.positions = s.P;
+    if (normals) c.normals = s.N;
+    return c;
+  }
+
+  void write_text(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+  }
+
+  fs::path dir_;
+  std::string stderr_;
+};
+
+int lines(const std::string& text) {
+  int n = 0;
+  for (char c : text) n += c == '\n';
+  return n;
+}
+
+TEST_F(Cli, PlainXyzInputGetsNormalsAndTextureRemoved) {
+  write_point_cloud(path("in.xyz"), bumpy(false));
+  ASSERT_EQ(run(path("in.xyz") + " -o " + path("out.ply") + " -r 0.2"), 0) << stderr_;
+  const PointCloud out = read_point_cloud(path("out.ply"));
+  ASSERT_EQ(out.size(), 41u * 41u);
+  ASSERT_TRUE(out.has_normals());
+  EXPECT_LT(out.positions.col(2).cwiseAbs().maxCoeff(), 0.01) << "the bump is gone";
+  EXPECT_NE(stderr_.find("summary:"), std::string::npos);
+  EXPECT_NE(stderr_.find("neighbors per point"), std::string::npos);
+}
+
+TEST_F(Cli, ColorsAndOtherPropertiesSurvive) {
+  PointCloud c = bumpy(true);
+  std::vector<double> red(c.size()), label(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    red[i] = static_cast<double>(i % 256);
+    label[i] = -static_cast<double>(i);
+  }
+  c.extras.push_back({"red", ScalarType::UInt8, red});
+  c.extras.push_back({"label", ScalarType::Int32, label});
+  write_point_cloud(path("in.ply"), c);
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 0.2 -q"), 0) << stderr_;
+  EXPECT_EQ(stderr_, "") << "--quiet is quiet";
+  const PointCloud out = read_point_cloud(path("out.ply"));
+  ASSERT_EQ(out.extras.size(), 2u);
+  EXPECT_EQ(out.extras[0].name, "red");
+  EXPECT_EQ(out.extras[0].type, ScalarType::UInt8);
+  EXPECT_EQ(out.extras[0].values, red);
+  EXPECT_EQ(out.extras[1].type, ScalarType::Int32);
+  EXPECT_EQ(out.extras[1].values, label);
+}
+
+TEST_F(Cli, TextureFieldsAndLayer) {
+  write_point_cloud(path("in.ply"), bumpy(true));
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 0.2 --texture-fields" +
+                " --texture-layer " + path("layer.ply")),
+            0)
+      << stderr_;
+  const PointCloud out = read_point_cloud(path("out.ply"));
+  const PointCloud layer = read_point_cloud(path("layer.ply"));
+  ASSERT_EQ(out.extras.size(), 2u);
+  EXPECT_EQ(out.extras[0].name, "texture");
+  EXPECT_EQ(out.extras[1].name, "texture_height");
+  ASSERT_EQ(layer.extras.size(), 1u);
+  EXPECT_EQ(layer.extras[0].name, "texture_height");
+  EXPECT_EQ(layer.positions, bumpy(true).positions) << "the layer sits on the input";
+  // The bump's top carries most of its height (0.03) as texture; the border,
+  // none.
+  const std::size_t top = 20 * 41 + 20;
+  EXPECT_GT(layer.extras[0].values[top], 0.02);
+  EXPECT_LT(std::abs(layer.extras[0].values[0]), 0.002);
+}
+
+TEST_F(Cli, SameBytesOnOneAndTwoThreads) {
+  write_point_cloud(path("in.xyz"), bumpy(false));
+  ASSERT_EQ(run(path("in.xyz") + " -o " + path("a.ply") + " -r 0.2 --threads 1"), 0);
+  ASSERT_EQ(run(path("in.xyz") + " -o " + path("b.ply") + " -r 0.2 --threads 2"), 0);
+  std::ifstream a(path("a.ply"), std::ios::binary), b(path("b.ply"), std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(a)), {}),
+      sb((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_EQ(sa, sb);
+}
+
+// Every class of bad input: exit code 3, one line naming the file, no output.
+TEST_F(Cli, BadInputsGiveOneLineErrorsAndNoOutput) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
+  const std::string binary_header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
+  const struct {
+    const char* name;
+    std::string content;
+  } cases[] = {
+      {"truncated.ply", binary_header + std::string(20, '\0')},
+      {"count.ply", header + "0 0 0\n"},
+      {"token.xyz", "0 0 0\n1 abc 0\n"},
+      {"nan.xyz", "0 0 0\nnan 1 1\n"},
+      {"inf.ply", header + "0 0 0\n1 inf 0\n"},
+      {"noz.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "end_header\n0 0\n"},
+      {"empty.xyz", "# nothing here\n"},
+      {"header.ply", "ply\nformat ascii 2.0\nend_header\n"},
+      {"magic.ply", "PLX\n"},
+      {"unknown.abc", "0 0 0\n"},
+  };
+  for (const auto& c : cases) {
+    write_text(c.name, c.content);
+    const std::string out = path(std::string(c.name) + ".out.ply");
+    EXPECT_EQ(run(path(c.name) + " -o " + out), 3) << c.name << ": " << stderr_;
+    EXPECT_EQ(lines(stderr_), 1) << c.name << ": " << stderr_;
+    EXPECT_NE(stderr_.find(c.name), std::string::npos) << stderr_;
+    EXPECT_FALSE(fs::exists(out)) << c.name;
+  }
+  EXPECT_EQ(run(path("missing.ply") + " -o " + path("o.ply")), 3);
+  EXPECT_EQ(lines(stderr_), 1);
+}
+
+TEST_F(Cli, NeverOverwritesWithoutAsking) {
+  write_point_cloud(path("in.ply"), bumpy(true));
+  const auto size = fs::file_size(path("in.ply"));
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("in.ply") + " --force"), 4);
+  EXPECT_EQ(run(path("in.ply") + " -o " + dir_.string() + "/./in.ply --force"), 4);
+  EXPECT_EQ(fs::file_size(path("in.ply")), size);
+  write_text("taken.ply", "keep me");
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("taken.ply") + " -r 0.2"), 4);
+  EXPECT_NE(stderr_.find("--force"), std::string::npos);
+  EXPECT_EQ(fs::file_size(path("taken.ply")), 7u);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("taken.ply") + " -r 0.2 --force"), 0);
+}
+
+TEST_F(Cli, BadParametersAreUsageErrors) {
+  write_point_cloud(path("in.ply"), bumpy(true));
+  for (const char* args : {"--delta 2", "--radius abc", "--radius -1", "--sigma-r 0",
+                           "--update sideways", "--planes 4", "--threads -1", "--bogus"}) {
+    EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
+    EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
+  }
+  EXPECT_EQ(run(path("in.ply")), 2) << "-o is required";
+}
+
+TEST_F(Cli, HelpListsEveryParameterWithItsSymbol) {
+  ASSERT_EQ(run("--help"), 0);
+  std::ifstream in(path("stdout.txt"));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string help = ss.str();
+  for (const char* s : {"λ", "δ", "σs", "σr", "σp", "r:", "--radius", "--lambda", "--delta",
+                        "--sigma-s", "--sigma-r", "--sigma-p", "--iterations", "--isotropy",
+                        "--update", "--guidance", "--no-subneighborhood", "--threads", "0.02d"})
+    EXPECT_NE(help.find(s), std::string::npos) << s;
+}
+
+}  // namespace
+}  // namespace detexture
