@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs the Debian packages detexture needs to build and test. Run as root
+# on Debian 12. Skips apt entirely when everything is already installed.
+set -euo pipefail
+packages=(build-essential cmake libeigen3-dev libnanoflann-dev libcli11-dev
+          libgtest-dev googletest)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
