@@ -51,7 +51,7 @@ struct RemoveTextureParams {
   /// texture feature you want gone.
   Length radius{0.02, Length::Unit::Diagonal};
   /// λ: RANSAC distance threshold (Eq. 2). Bumps lower than λ count as surface.
-  Length lambda{0.1, Length::Unit::Radius};
+  Length lambda{0.05, Length::Unit::Radius};
   /// σs: spatial scale of the normal filters (Eqs. 1, 3). Texture smaller than
   /// σs is smoothed away.
   Length sigma_s{1.0, Length::Unit::Radius};

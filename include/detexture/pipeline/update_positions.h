@@ -51,7 +51,7 @@ struct UpdatePositionsParams {
   double isotropy_deg = 30.0;
   /// Global: anchor weight of underlying-surface points, relative to their
   /// data weight; ≥ 0. Larger keeps them closer to where they were.
-  double anchor_surface = 0.05;
+  double anchor_surface = 1.0;
   /// Global: anchor weight of texture points, relative; > 0 (keeps the
   /// problem well posed where no underlying surface is near).
   double anchor_texture = 1e-4;
