@@ -7,6 +7,7 @@
 
 #include "detexture/geometry/estimate_normals.h"
 #include "detexture/geometry/orient_normals.h"
+#include "detexture/geometry/spatial_order.h"
 
 namespace detexture {
 
@@ -105,16 +106,14 @@ void warn(const PipelineObserver& observer, const std::string& message) {
 
 }  // namespace
 
-RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
-                                   const RemoveTextureParams& params,
-                                   const PipelineObserver& observer) {
-  validate(params);
-  const std::size_t n = static_cast<std::size_t>(P.rows());
-  if (n == 0) throw std::invalid_argument("the point cloud is empty");
-  if (normals.rows() != 0 && normals.rows() != P.rows())
-    throw std::invalid_argument("there must be as many normals as points, or none");
+namespace {
 
-  RemoveTextureResult result;
+// The method on points already in spatial order (see remove_texture).
+RemoveTextureResult remove_texture_ordered(const Positions& P, const Normals& normals,
+                                           const RemoveTextureParams& params,
+                                           const PipelineObserver& observer,
+                                           RemoveTextureResult result) {
+  const std::size_t n = static_cast<std::size_t>(P.rows());
   RemoveTextureReport& rep = result.report;
   rep.diagonal = bounding_box_diagonal(P);
   if (!(rep.diagonal > 0.0))
@@ -225,6 +224,48 @@ RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
   for (std::size_t i = 0; i < n; ++i)
     result.texture_height(static_cast<Eigen::Index>(i)) =
         (P.row(i) - result.positions.row(i)).dot(result.normals.row(i));
+  return result;
+}
+
+template <class T>
+std::vector<T> unpermute(const std::vector<T>& v, const std::vector<std::uint32_t>& order) {
+  std::vector<T> out(v.size());
+  for (std::size_t k = 0; k < order.size(); ++k) out[order[k]] = v[k];
+  return out;
+}
+
+}  // namespace
+
+RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
+                                   const RemoveTextureParams& params,
+                                   const PipelineObserver& observer) {
+  validate(params);
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  if (n == 0) throw std::invalid_argument("the point cloud is empty");
+  if (normals.rows() != 0 && normals.rows() != P.rows())
+    throw std::invalid_argument("there must be as many normals as points, or none");
+
+  // Work on the points in Morton order, so that neighbors are near each other
+  // in memory (3-4x faster on clouds stored in random order), and give the
+  // results back in the caller's order.
+  RemoveTextureResult result;
+  std::vector<std::uint32_t> order;
+  Positions ordered_P;
+  Normals ordered_N;
+  {
+    StageClock clock(observer, result.report, "spatial order");
+    order = spatial_order(P);
+    ordered_P = permute_rows(P, order);
+    if (normals.rows() != 0) ordered_N = permute_rows(normals, order);
+  }
+  result = remove_texture_ordered(ordered_P, ordered_N, params, observer, std::move(result));
+  result.positions = unpermute_rows(result.positions, order);
+  result.normals = unpermute_rows(result.normals, order);
+  result.input_normals = unpermute_rows(result.input_normals, order);
+  result.is_texture = unpermute(result.is_texture, order);
+  Eigen::VectorXd height(static_cast<Eigen::Index>(n));
+  for (std::size_t k = 0; k < n; ++k) height(order[k]) = result.texture_height(k);
+  result.texture_height = std::move(height);
   return result;
 }
 
