@@ -53,8 +53,13 @@ Plane least_squares_plane(const std::vector<Eigen::Vector3d>& Q,
   return refined;
 }
 
+// min_count: a plane with fewer inliers is of no use to the caller, so once
+// enough tries have been made to find such a plane at the chosen confidence,
+// RANSAC gives up (the further planes of curved texture would otherwise run
+// to the cap).
 PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std::uint32_t>& subset,
-                   double extent_sq, const DetectTextureParams& params, SplitMix64& rng) {
+                   double extent_sq, const DetectTextureParams& params, SplitMix64& rng,
+                   double min_count) {
   const std::uint32_t k = static_cast<std::uint32_t>(subset.size());
   // A triple whose cross product is this small is collinear for our purposes.
   const double min_cross = 1e-12 * extent_sq;
@@ -64,7 +69,9 @@ PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std:
     return c;
   };
   PlaneFit fit;
-  double needed = params.max_iterations;
+  double needed = std::min<double>(
+      params.max_iterations,
+      tries_needed(std::min(1.0, min_count / static_cast<double>(k)), params.confidence));
   while (fit.tries < params.max_iterations && fit.tries < needed) {
     ++fit.tries;
     const std::uint32_t a = rng.below(k);
@@ -85,7 +92,7 @@ PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std:
     if (count > fit.count) {
       fit.count = count;
       fit.plane = plane;
-      needed = tries_needed(static_cast<double>(count) / k, params.confidence);
+      needed = std::min(needed, tries_needed(static_cast<double>(count) / k, params.confidence));
     }
   }
   if (params.refine && fit.count >= 3) {
@@ -168,7 +175,7 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
       SplitMix64 rng(params.seed, i);
       subset.resize(k);
       for (std::uint32_t t = 0; t < k; ++t) subset[t] = t;
-      const PlaneFit first = fit_plane(Q, subset, extent_sq, params, rng);
+      const PlaneFit first = fit_plane(Q, subset, extent_sq, params, rng, 3.0);
       total_tries += first.tries;
       if (first.count == 0) {
         ++no_plane;
@@ -187,7 +194,7 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
       Eigen::Vector3d normals_found[3] = {first.plane.normal};
       for (int plane = 1; plane < params.planes; ++plane) {
         if (subset.size() < std::max(3.0, min_share)) break;
-        const PlaneFit next = fit_plane(Q, subset, extent_sq, params, rng);
+        const PlaneFit next = fit_plane(Q, subset, extent_sq, params, rng, min_share);
         total_tries += next.tries;
         bool at_angle = next.count >= min_share;
         for (int e = 0; e < plane && at_angle; ++e)

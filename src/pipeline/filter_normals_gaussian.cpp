@@ -30,17 +30,21 @@ GaussianFilterResult filter_normals_gaussian(const Positions& P, const Normals& 
     const Eigen::RowVector3d pi = P.row(i);
     Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
     bool any = false;
+    auto weight = [&](std::uint32_t j) {  // single precision is plenty for a weight
+      return static_cast<double>(
+          std::exp(static_cast<float>(-(P.row(j) - pi).squaredNorm() * inv_two_sigma_sq)));
+    };
     if (params.use_subneighborhood) {
       for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
         if (is_texture[*j]) continue;
         any = true;
-        sum += std::exp(-(P.row(*j) - pi).squaredNorm() * inv_two_sigma_sq) * normals.row(*j);
+        sum += weight(*j) * normals.row(*j);
       }
       empty += !any;
     }
     if (!any) {
       for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j)
-        sum += std::exp(-(P.row(*j) - pi).squaredNorm() * inv_two_sigma_sq) * normals.row(*j);
+        sum += weight(*j) * normals.row(*j);
     }
     const double norm = sum.norm();
     if (norm > 1e-12) {

@@ -59,8 +59,11 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
           if (pass == 0 && texture[j]) continue;
           const double dx = p[3 * j] - px, dy = p[3 * j + 1] - py, dz = p[3 * j + 2] - pz;
           const double ex = g[3 * j] - gx, ey = g[3 * j + 1] - gy, ez = g[3 * j + 2] - gz;
-          const double w = std::exp(-(dx * dx + dy * dy + dz * dz) * inv_two_sigma_s_sq -
-                                    (ex * ex + ey * ey + ez * ez) * inv_two_chord_sq);
+          // Single-precision exp: the weight needs no more, and it is the
+          // costliest operation of the method (one per pair and iteration).
+          const double w =
+              std::exp(static_cast<float>(-(dx * dx + dy * dy + dz * dz) * inv_two_sigma_s_sq -
+                                          (ex * ex + ey * ey + ez * ez) * inv_two_chord_sq));
           sx += w * nin[3 * j];
           sy += w * nin[3 * j + 1];
           sz += w * nin[3 * j + 2];
