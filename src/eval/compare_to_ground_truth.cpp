@@ -4,46 +4,27 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <nanoflann.hpp>
 #include <stdexcept>
 #include <vector>
+#include "detexture/geometry/point_index.h"
 
 namespace detexture {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Nearest neighbors in another cloud. radius_neighborhoods.h only searches a
-// cloud within itself, so this file keeps its own nanoflann adaptor (the same
-// one, never exposed in a header).
-struct PositionsAdaptor {
-  const Positions& P;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(P.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return P(i, dim); }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>,
-                                        PositionsAdaptor, 3, std::uint32_t>;
-
 /// For each row of Q, the index of the nearest row of P and the distance.
 void nearest_in(const Positions& P, const Positions& Q, std::vector<std::uint32_t>& index,
                 std::vector<double>& distance) {
-  PositionsAdaptor adaptor{P};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  const PointIndex tree(P);
   const Eigen::Index n = Q.rows();
   index.resize(static_cast<std::size_t>(n));
   distance.resize(static_cast<std::size_t>(n));
 #pragma omp parallel for schedule(static)
   for (Eigen::Index i = 0; i < n; ++i) {
     const double q[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
-    std::uint32_t j = 0;
     double distance_sq = 0.0;
-    tree.knnSearch(q, 1, &j, &distance_sq);
+    const std::uint32_t j = tree.nearest(q, &distance_sq);
     index[static_cast<std::size_t>(i)] = j;
     distance[static_cast<std::size_t>(i)] = std::sqrt(distance_sq);
   }

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <nanoflann.hpp>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
+#include "detexture/geometry/point_index.h"
 
 namespace detexture {
 namespace {
@@ -290,26 +290,12 @@ class BaseSurface {
   std::vector<double> cdf_;
 };
 
-// nanoflann over the feature centers of one patch (the tree references the
+// The feature centers of one patch with their index (which references the
 // matrix, so a PatchCenters never moves once built).
-struct CentersAdaptor {
-  const Positions& P;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(P.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return P(i, dim); }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-using CentersTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CentersAdaptor>,
-                                        CentersAdaptor, 3, std::uint32_t>;
-
 struct PatchCenters {
   Positions centers;
   std::vector<double> signs;
-  CentersAdaptor adaptor{centers};
-  std::unique_ptr<CentersTree> tree;
+  std::unique_ptr<PointIndex> tree;
 };
 
 // Features of one radius and amplitude, placed by dart throwing.
@@ -428,9 +414,7 @@ class HeightField {
         pc->signs.push_back(params_.mixed_signs ? random_sign(params_.seed, next_feature_++) : 1.0);
       }
       if (!darts.empty()) {
-        pc->tree = std::make_unique<CentersTree>(3, pc->adaptor,
-                                                 nanoflann::KDTreeSingleIndexAdaptorParams(10));
-        pc->tree->buildIndex();
+        pc->tree = std::make_unique<PointIndex>(pc->centers);
       }
       set.patches.push_back(std::move(pc));
     }
@@ -445,7 +429,7 @@ class HeightField {
     if (!pc.tree) return;
     const double radius = set.radius, radius_sq = radius * radius;
     std::vector<std::pair<std::uint32_t, double>> found;
-    pc.tree->radiusSearch(x.data(), radius_sq, found, nanoflann::SearchParams(32, 0.0f, false));
+    pc.tree->within(x.data(), radius, found);
     for (const auto& [j, d_sq] : found) {
       const double s = d_sq / radius_sq;
       if (s >= 1.0) continue;
@@ -489,14 +473,12 @@ class HeightField {
     const PatchCenters& pc = *sets_[0].patches[patch];
     if (!pc.tree) return;
     const double R = params_.size;
-    std::uint32_t nearest = 0;
     double nearest_sq = 0.0;
-    pc.tree->knnSearch(x.data(), 1, &nearest, &nearest_sq);
+    const std::uint32_t nearest = pc.tree->nearest(x.data(), &nearest_sq);
     const Vector3d c1 = pc.centers.row(nearest).transpose();
     const double search_radius = std::sqrt(nearest_sq) + 2.0 * R;
     std::vector<std::pair<std::uint32_t, double>> found;
-    pc.tree->radiusSearch(x.data(), search_radius * search_radius, found,
-                          nanoflann::SearchParams(32, 0.0f, false));
+    pc.tree->within(x.data(), search_radius, found);
     double border = kInfinity;
     Vector3d border_gradient = Vector3d::Zero();
     for (const auto& [j, d_sq] : found) {

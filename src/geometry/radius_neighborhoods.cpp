@@ -1,4 +1,3 @@
-// The one place where nanoflann is used and where the radius is squared.
 #include "detexture/geometry/radius_neighborhoods.h"
 
 #include <omp.h>
@@ -7,37 +6,17 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <nanoflann.hpp>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
+#include "detexture/geometry/point_index.h"
 #include "progress_counter.h"
 
 namespace detexture {
 namespace {
 
-// nanoflann adaptor over the caller's matrix: the index never owns the data.
-struct PositionsAdaptor {
-  const Positions& P;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(P.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return P(i, dim); }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionsAdaptor>,
-                                        PositionsAdaptor, 3, std::uint32_t>;
-
 constexpr std::size_t kBlock = 2048;
-
-void check_size(const Positions& P) {
-  if (static_cast<std::uint64_t>(P.rows()) >= std::numeric_limits<std::uint32_t>::max())
-    throw std::invalid_argument("clouds of more than 2^32-1 points are not supported");
-}
 
 // Runs query(i, out) for every point in parallel blocks and concatenates the
 // per-point results in point order, so the layout does not depend on the
@@ -106,20 +85,14 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
                                 number_text(params.radius));
   if (params.max_neighbors < 0)
     throw std::invalid_argument("the neighbor cap must be 0 (no cap) or positive");
-  check_size(P);
   const std::size_t n = static_cast<std::size_t>(P.rows());
-  PositionsAdaptor adaptor{P};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
-  const double radius_sq = params.radius * params.radius;
+  const PointIndex index(P);
   const std::size_t cap = params.max_neighbors > 0 ? static_cast<std::size_t>(params.max_neighbors)
                                                    : std::numeric_limits<std::size_t>::max();
-  nanoflann::SearchParams search(32, 0.0f, false);
   return build(n, progress,
                [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
                  const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
-                 found.clear();
-                 tree.radiusSearch(q, radius_sq, found, search);
+                 index.within(q, params.radius, found);
                  sort_by_distance(found);
                  if (found.size() > cap) found.resize(cap);
                });
@@ -127,22 +100,17 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
 
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress) {
   if (k < 1) throw std::invalid_argument("k for nearest neighbors must be at least 1");
-  check_size(P);
   const std::size_t n = static_cast<std::size_t>(P.rows());
   const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(k), n);
-  PositionsAdaptor adaptor{P};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  const PointIndex index(P);
   return build(n, progress,
                [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found) {
                  const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
                  thread_local std::vector<std::uint32_t> idx;
                  thread_local std::vector<double> dist;
-                 idx.resize(kk);
-                 dist.resize(kk);
-                 const std::size_t got = tree.knnSearch(q, kk, idx.data(), dist.data());
+                 index.nearest(q, kk, idx, dist);
                  found.clear();
-                 for (std::size_t t = 0; t < got; ++t) found.emplace_back(idx[t], dist[t]);
+                 for (std::size_t t = 0; t < idx.size(); ++t) found.emplace_back(idx[t], dist[t]);
                  sort_by_distance(found);
                });
 }
