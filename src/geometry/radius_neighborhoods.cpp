@@ -18,38 +18,45 @@ namespace {
 
 constexpr std::size_t kBlock = 2048;
 
-// Runs query(i, out) for every point in parallel blocks and concatenates the
+// Runs query(i, out) for every point in parallel blocks and appends the
 // per-point results in point order, so the layout does not depend on the
-// number of threads.
+// number of threads. The blocks are done a batch at a time and appended as
+// each batch ends, so at most one batch is held twice (not the whole
+// neighborhood list); the index array grows by an estimate from the points
+// done so far, so it is rarely reallocated.
 template <class Query>
 Neighborhoods build(std::size_t n, const ProgressFn& progress, Query&& query) {
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::vector<std::uint32_t>> block_indices(blocks);
+  const std::size_t batch = 32;  // blocks per batch: 64k points
+  std::vector<std::vector<std::uint32_t>> block_indices(std::min(batch, blocks));
   Neighborhoods result;
   result.offsets.assign(n + 1, 0);
   ProgressCounter counter(progress, n);
+  for (std::size_t first = 0; first < blocks; first += batch) {
+    const std::size_t last = std::min(blocks, first + batch);
 #pragma omp parallel
-  {
-    std::vector<std::pair<std::uint32_t, double>> found;
+    {
+      std::vector<std::pair<std::uint32_t, double>> found;
 #pragma omp for schedule(dynamic, 1)
-    for (std::size_t b = 0; b < blocks; ++b) {
-      const std::size_t lo = b * kBlock, hi = std::min(n, lo + kBlock);
-      auto& out = block_indices[b];
-      for (std::size_t i = lo; i < hi; ++i) {
-        query(i, found);
-        result.offsets[i + 1] = found.size();
-        for (const auto& f : found) out.push_back(f.first);
+      for (std::size_t b = first; b < last; ++b) {
+        const std::size_t lo = b * kBlock, hi = std::min(n, lo + kBlock);
+        auto& out = block_indices[b - first];
+        out.clear();
+        for (std::size_t i = lo; i < hi; ++i) {
+          query(i, found);
+          result.offsets[i + 1] = found.size();
+          for (const auto& f : found) out.push_back(f.first);
+        }
+        counter.advance(hi - lo);
       }
-      counter.advance(hi - lo);
     }
-  }
-  for (std::size_t i = 0; i < n; ++i) result.offsets[i + 1] += result.offsets[i];
-  result.indices.resize(result.offsets[n]);
-#pragma omp parallel for schedule(static)
-  for (std::size_t b = 0; b < blocks; ++b) {
-    std::copy(block_indices[b].begin(), block_indices[b].end(),
-              result.indices.begin() + result.offsets[b * kBlock]);
-    std::vector<std::uint32_t>().swap(block_indices[b]);
+    const std::size_t lo = first * kBlock, hi = std::min(n, last * kBlock);
+    for (std::size_t i = lo; i < hi; ++i) result.offsets[i + 1] += result.offsets[i];
+    if (result.offsets[hi] > result.indices.capacity())
+      result.indices.reserve(static_cast<std::size_t>(1.05 * result.offsets[hi] * n / hi) + 64);
+    for (std::size_t b = first; b < last; ++b)
+      result.indices.insert(result.indices.end(), block_indices[b - first].begin(),
+                            block_indices[b - first].end());
   }
   return result;
 }
