@@ -77,8 +77,15 @@ namespace {
 TEST(EstimateCurvature, SphereAndPlane) {
   const auto sphere = test::fibonacci_sphere(20000, 0.5);
   const Neighborhoods R = radius_neighborhoods(sphere.P, {0.05, 0});
-  const Eigen::VectorXd C = estimate_curvature(sphere.P, sphere.N, R);
+  Eigen::VectorXd min_cos;
+  const Eigen::VectorXd C = estimate_curvature(sphere.P, sphere.N, R, &min_cos);
   EXPECT_NEAR(C.minCoeff(), 2.0, 1e-6);
+  for (int i = 0; i < sphere.P.rows(); i += 97) {
+    double lowest = 1.0;
+    for (auto j = R.begin(i); j != R.end(i); ++j)
+      lowest = std::min(lowest, sphere.N.row(i).dot(sphere.N.row(*j)));
+    EXPECT_EQ(min_cos(i), lowest);
+  }
   EXPECT_NEAR(C.maxCoeff(), 2.0, 1e-6);
   const auto plane = test::bumpy_plane(21, 0.0, 0.1);
   const Neighborhoods Rp = radius_neighborhoods(plane.P, {0.12, 0});

@@ -12,22 +12,16 @@ Normals guidance_normals(const Positions& P, const Normals& current, const Neigh
                          const GuidanceNormalsParams& params) {
   if (params.mode == GuidanceMode::Plain) return current;
   const std::size_t n = R.size();
-  const double* nc = current.data();
   const bool angle = params.difference == NormalDifference::Angle;
 
   // Eqs. 4-5: reliability R(p_i) = max_j D(p_ij)·C(p_i); D grows as n_i·n_j falls.
-  const Eigen::VectorXd C = estimate_curvature(P, current, R);
+  Eigen::VectorXd min_cos;
+  const Eigen::VectorXd C = estimate_curvature(P, current, R, &min_cos);
   std::vector<double> reliability(n);
-#pragma omp parallel for schedule(dynamic, 512)
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    const double nx = nc[3 * i], ny = nc[3 * i + 1], nz = nc[3 * i + 2];
-    double min_cos = 1.0;
-    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
-      const double* nj = nc + 3 * *it;
-      min_cos = std::min(min_cos, nx * nj[0] + ny * nj[1] + nz * nj[2]);
-    }
-    min_cos = std::clamp(min_cos, -1.0, 1.0);
-    reliability[i] = (angle ? std::acos(min_cos) : 1.0 - min_cos) * C(static_cast<Eigen::Index>(i));
+    const double c = std::clamp(min_cos(static_cast<Eigen::Index>(i)), -1.0, 1.0);
+    reliability[i] = (angle ? std::acos(c) : 1.0 - c) * C(static_cast<Eigen::Index>(i));
   }
 
   // Pass 2, Eq. 6: the most reliable neighbor; and Eq. 8's sums Σ_j C(p_j).

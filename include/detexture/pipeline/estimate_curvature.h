@@ -18,7 +18,9 @@
 namespace detexture {
 
 /// #P curvatures C_i (units 1/length, ≥ 0). Points without other neighbors get 0.
+/// If min_cos is given, it receives the smallest n_i·n_j over R_i as well
+/// (Eq. 5 needs it, and the same pass over the neighbors finds it for free).
 Eigen::VectorXd estimate_curvature(const Positions& P, const Normals& normals,
-                                   const Neighborhoods& R);
+                                   const Neighborhoods& R, Eigen::VectorXd* min_cos = nullptr);
 
 }  // namespace detexture

@@ -37,7 +37,7 @@ struct FilterNormalsRollingParams {
   /// Rolling iterations k (after the Gaussian step), ≥ 0.
   int iterations = 10;
   /// Stop when the mean normal change of an iteration is below this, in degrees, ≥ 0.
-  double tolerance_deg = 0.05;
+  double tolerance_deg = 0.1;
   /// Sum over Ω_i (true, our default) or over R_i as Eq. 3 is printed (false).
   bool use_subneighborhood = true;
   GuidanceNormalsParams guidance;
