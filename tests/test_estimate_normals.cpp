@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "test_support.h"
+
 namespace detexture {
 namespace {
 
@@ -32,39 +34,6 @@ Positions plane_grid(const Eigen::RowVector3d& center, const Eigen::RowVector3d&
       const double x = (c - cols / 2) * h + jitter(rng), y = (r - rows / 2) * h + jitter(rng);
       P.row(r * cols + c) = center + x * u + y * v;
     }
-  return P;
-}
-
-// Nearly uniform points on a sphere (Fibonacci lattice).
-Positions fibonacci_sphere(int n, double radius, const Eigen::RowVector3d& center) {
-  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
-  Positions P(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1.0 - z * z);
-    P.row(i) = center + radius * Eigen::RowVector3d(r * std::cos(i * golden_angle),
-                                                    r * std::sin(i * golden_angle), z);
-  }
-  return P;
-}
-
-// The six faces of the cube [-0.5, 0.5]^3, each sampled at the centers of an
-// m by m grid; face_normal receives the outward normal of each point's face.
-Positions cube_faces(int m, Normals* face_normal) {
-  Positions P(6 * m * m, 3);
-  face_normal->resize(P.rows(), 3);
-  int row = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = -1; side <= 1; side += 2)
-      for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) {
-          Eigen::RowVector3d p, n = Eigen::RowVector3d::Zero();
-          p(axis) = 0.5 * side;
-          p((axis + 1) % 3) = (a + 0.5) / m - 0.5;
-          p((axis + 2) % 3) = (b + 0.5) / m - 0.5;
-          n(axis) = side;
-          P.row(row) = p;
-          face_normal->row(row++) = n;
-        }
   return P;
 }
 
@@ -95,7 +64,7 @@ TEST(EstimateNormals, ElongatedPlanarNeighborhoodsAreAccurate) {
 
 TEST(EstimateNormals, SphereNormalsAreRadial) {
   const Eigen::RowVector3d center(3.0, -1.0, 2.0);
-  const Positions P = fibonacci_sphere(20000, 1.0, center);
+  const Positions P = test::fibonacci_sphere(20000, 1.0, center).P;
   const EstimateNormalsResult r = estimate_normals(P, knn_neighborhoods(P, 16));
   EXPECT_EQ(r.degenerate, 0u);
   const double one_degree = std::cos(kPi / 180.0);
@@ -109,8 +78,9 @@ TEST(EstimateNormals, SphereNormalsAreRadial) {
 // Points farther than the radius from every other face see only their own
 // face, so their normal is the face normal.
 TEST(EstimateNormals, CubeFacesAwayFromEdgesGiveFaceNormals) {
-  Normals face_normal;
-  const Positions P = cube_faces(20, &face_normal);
+  const test::BumpyPlane cube = test::cube_faces(20);
+  const Positions& P = cube.P;
+  const Normals& face_normal = cube.N;
   const double radius = 0.08;
   const EstimateNormalsResult r = estimate_normals(P, radius_neighborhoods(P, {radius, 0}));
   EXPECT_EQ(r.degenerate, 0u);
@@ -170,7 +140,7 @@ TEST(EstimateNormals, DegeneratePointsGetZeroNormalsAndAreCounted) {
 TEST(EstimateNormals, SameForAnyThreadCountAndReportsProgress) {
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 0.01);
-  Positions P = fibonacci_sphere(30000, 1.0, {0, 0, 0});
+  Positions P = test::fibonacci_sphere(30000, 1.0).P;
   for (int i = 0; i < P.rows(); ++i) P.row(i) *= 1.0 + noise(rng);
   const Neighborhoods N = knn_neighborhoods(P, 12);
   omp_set_num_threads(1);
@@ -188,8 +158,8 @@ TEST(EstimateNormals, SameForAnyThreadCountAndReportsProgress) {
 }
 
 TEST(EstimateNormals, RejectsNeighborhoodsOfAnotherCloud) {
-  const Positions P = fibonacci_sphere(100, 1.0, {0, 0, 0});
-  const Positions Q = fibonacci_sphere(50, 1.0, {0, 0, 0});
+  const Positions P = test::fibonacci_sphere(100, 1.0).P;
+  const Positions Q = test::fibonacci_sphere(50, 1.0).P;
   EXPECT_THROW(estimate_normals(P, knn_neighborhoods(Q, 5)), std::invalid_argument);
 }
 

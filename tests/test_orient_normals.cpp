@@ -11,44 +11,12 @@
 #include <vector>
 
 #include "detexture/geometry/estimate_normals.h"
+#include "test_support.h"
 
 namespace detexture {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// Nearly uniform points on a sphere (Fibonacci lattice).
-Positions fibonacci_sphere(int n, double radius, const Eigen::RowVector3d& center) {
-  const double golden_angle = kPi * (3.0 - std::sqrt(5.0));
-  Positions P(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1.0 - z * z);
-    P.row(i) = center + radius * Eigen::RowVector3d(r * std::cos(i * golden_angle),
-                                                    r * std::sin(i * golden_angle), z);
-  }
-  return P;
-}
-
-// The six faces of the cube [-0.5, 0.5]^3, each sampled at the centers of an
-// m by m grid; face_normal receives the outward normal of each point's face.
-Positions cube_faces(int m, Normals* face_normal) {
-  Positions P(6 * m * m, 3);
-  face_normal->resize(P.rows(), 3);
-  int row = 0;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = -1; side <= 1; side += 2)
-      for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) {
-          Eigen::RowVector3d p, n = Eigen::RowVector3d::Zero();
-          p(axis) = 0.5 * side;
-          p((axis + 1) % 3) = (a + 0.5) / m - 0.5;
-          p((axis + 2) % 3) = (b + 0.5) / m - 0.5;
-          n(axis) = side;
-          P.row(row) = p;
-          face_normal->row(row++) = n;
-        }
-  return P;
-}
 
 // Each normal negated with probability 1/2.
 Normals random_signs(const Normals& normals, unsigned seed) {
@@ -81,7 +49,7 @@ std::size_t count_facing_inward(const Positions& P, const Normals& normals,
 
 TEST(OrientNormals, SphereFacesOutward) {
   const Eigen::RowVector3d center(1.0, 2.0, 3.0);
-  const Positions P = fibonacci_sphere(10000, 2.0, center);
+  const Positions P = test::fibonacci_sphere(10000, 2.0, center).P;
   const Normals unoriented =
       random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 11);
   const OrientNormalsResult r = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
@@ -121,8 +89,9 @@ TEST(OrientNormals, TorusFacesAwayFromItsCoreCircle) {
 // With exact face normals, neighbors across a cube edge are perpendicular:
 // n_i . n_j = 0 says nothing, but the normals projected across the chord do.
 TEST(OrientNormals, CubeWithExactFaceNormalsFacesOutward) {
-  Normals face_normal;
-  const Positions P = cube_faces(20, &face_normal);
+  const test::BumpyPlane cube = test::cube_faces(20);
+  const Positions& P = cube.P;
+  const Normals& face_normal = cube.N;
   const OrientNormalsResult r =
       orient_normals(P, random_signs(face_normal, 19), knn_neighborhoods(P, 10));
   EXPECT_EQ(r.components, 1u);
@@ -131,8 +100,9 @@ TEST(OrientNormals, CubeWithExactFaceNormalsFacesOutward) {
 }
 
 TEST(OrientNormals, CubeWithPcaNormalsFacesOutward) {
-  Normals face_normal;
-  const Positions P = cube_faces(20, &face_normal);
+  const test::BumpyPlane cube = test::cube_faces(20);
+  const Positions& P = cube.P;
+  const Normals& face_normal = cube.N;
   const EstimateNormalsResult e = estimate_normals(P, radius_neighborhoods(P, {0.08, 0}));
   ASSERT_EQ(e.degenerate, 0u);
   const OrientNormalsResult r =
@@ -185,7 +155,7 @@ TEST(OrientNormals, ThinPlateFacesAwayFromItsMidPlane) {
 }
 
 TEST(OrientNormals, ZeroNormalsStayZeroAndAreBypassed) {
-  const Positions P = fibonacci_sphere(5000, 1.0, {0, 0, 0});
+  const Positions P = test::fibonacci_sphere(5000, 1.0).P;
   Normals unoriented = random_signs(P, 31);  // radial on the unit sphere
   for (int i = 0; i < P.rows(); i += 5) unoriented.row(i).setZero();
   const OrientNormalsResult r = orient_normals(P, unoriented, knn_neighborhoods(P, 10));
@@ -201,7 +171,7 @@ TEST(OrientNormals, ZeroNormalsStayZeroAndAreBypassed) {
 TEST(OrientNormals, SeparateShapesAreSeparateComponents) {
   const Eigen::RowVector3d a(-5, 0, 0), b(5, 0, 0);
   Positions P(4000, 3);
-  P << fibonacci_sphere(2000, 1.0, a), fibonacci_sphere(2000, 2.0, b);
+  P << test::fibonacci_sphere(2000, 1.0, a).P, test::fibonacci_sphere(2000, 2.0, b).P;
   Normals radial(4000, 3);
   for (int i = 0; i < 4000; ++i) radial.row(i) = (P.row(i) - (i < 2000 ? a : b)).normalized();
   const OrientNormalsResult r =
@@ -231,7 +201,7 @@ TEST(OrientNormals, KnnGraphIsTreatedAsUndirected) {
 TEST(OrientNormals, SameForAnyThreadCount) {
   std::mt19937 rng(41);
   std::normal_distribution<double> noise(0.0, 0.005);
-  Positions P = fibonacci_sphere(30000, 1.0, {0, 0, 0});
+  Positions P = test::fibonacci_sphere(30000, 1.0).P;
   for (int i = 0; i < P.rows(); ++i) P.row(i) *= 1.0 + noise(rng);
   const Normals unoriented =
       random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 43);
@@ -246,7 +216,7 @@ TEST(OrientNormals, SameForAnyThreadCount) {
 }
 
 TEST(OrientNormals, RejectsBadInput) {
-  const Positions P = fibonacci_sphere(100, 1.0, {0, 0, 0});
+  const Positions P = test::fibonacci_sphere(100, 1.0).P;
   const Neighborhoods N = knn_neighborhoods(P, 5);
   EXPECT_THROW(orient_normals(P, P.topRows(50), N), std::invalid_argument);
   EXPECT_THROW(orient_normals(P.topRows(50), P.topRows(50), N), std::invalid_argument);
@@ -258,17 +228,16 @@ TEST(OrientNormals, RejectsBadInput) {
 }
 
 TEST(OrientationInconsistency, ConsistentFieldsScoreZero) {
-  const Positions sphere = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  const Positions sphere = test::fibonacci_sphere(20000, 1.0).P;
   EXPECT_EQ(orientation_inconsistency(sphere, knn_neighborhoods(sphere, 10)), 0.0);
   // Neighbors across the cube's edges are perpendicular, hence not compared.
-  Normals face_normal;
-  const Positions cube = cube_faces(20, &face_normal);
-  EXPECT_EQ(orientation_inconsistency(face_normal, knn_neighborhoods(cube, 10)), 0.0);
+  const test::BumpyPlane cube = test::cube_faces(20);
+  EXPECT_EQ(orientation_inconsistency(cube.N, knn_neighborhoods(cube.P, 10)), 0.0);
 }
 
 // A pair disagrees when exactly one of its normals was flipped: 2 f (1 - f).
 TEST(OrientationInconsistency, RandomFlipsScoreTwoFTimesOneMinusF) {
-  const Positions P = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  const Positions P = test::fibonacci_sphere(20000, 1.0).P;
   const Neighborhoods N = knn_neighborhoods(P, 10);
   const double ten_percent = orientation_inconsistency(flip_fraction(P, 0.10, 47), N);
   EXPECT_NEAR(ten_percent, 0.18, 0.01);
@@ -279,7 +248,7 @@ TEST(OrientationInconsistency, RandomFlipsScoreTwoFTimesOneMinusF) {
 }
 
 TEST(OrientationInconsistency, OrientedPcaNormalsScoreZero) {
-  const Positions P = fibonacci_sphere(20000, 1.0, {0, 0, 0});
+  const Positions P = test::fibonacci_sphere(20000, 1.0).P;
   const Normals unoriented =
       random_signs(estimate_normals(P, knn_neighborhoods(P, 12)).normals, 59);
   const Neighborhoods N = knn_neighborhoods(P, 10);

@@ -75,9 +75,10 @@ inline BumpyPlane folded_plane(int side, double angle_deg) {
   return s;
 }
 
-/// `n` points spread evenly over a sphere of radius `radius` at the origin
-/// (Fibonacci lattice), with outward normals.
-inline BumpyPlane fibonacci_sphere(int n, double radius) {
+/// `n` points spread evenly over a sphere of radius `radius` centred at
+/// `center` (Fibonacci lattice), with outward normals.
+inline BumpyPlane fibonacci_sphere(int n, double radius,
+                                   const Eigen::RowVector3d& center = Eigen::RowVector3d::Zero()) {
   BumpyPlane s;
   s.P.resize(n, 3);
   s.N.resize(n, 3);
@@ -88,8 +89,32 @@ inline BumpyPlane fibonacci_sphere(int n, double radius) {
     const double rho = std::sqrt(1.0 - z * z);
     const Eigen::RowVector3d u(rho * std::cos(golden * i), rho * std::sin(golden * i), z);
     s.N.row(i) = u;
-    s.P.row(i) = radius * u;
+    s.P.row(i) = center + radius * u;
   }
+  return s;
+}
+
+/// The six faces of the cube [-0.5, 0.5]^3, each sampled at the centers of an
+/// m by m grid (6 m² points, face by face), with each point's outward face
+/// normal.
+inline BumpyPlane cube_faces(int m) {
+  BumpyPlane s;
+  s.P.resize(6 * m * m, 3);
+  s.N.resize(6 * m * m, 3);
+  s.height.setZero(6 * m * m);
+  int row = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2)
+      for (int a = 0; a < m; ++a)
+        for (int b = 0; b < m; ++b) {
+          Eigen::RowVector3d p, n = Eigen::RowVector3d::Zero();
+          p(axis) = 0.5 * side;
+          p((axis + 1) % 3) = (a + 0.5) / m - 0.5;
+          p((axis + 2) % 3) = (b + 0.5) / m - 0.5;
+          n(axis) = side;
+          s.P.row(row) = p;
+          s.N.row(row++) = n;
+        }
   return s;
 }
 

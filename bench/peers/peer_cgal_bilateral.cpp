@@ -20,13 +20,10 @@
 #include <CGAL/tags.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
-#include <filesystem>
+#include <stdexcept>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -34,9 +31,8 @@
 #include <tbb/global_control.h>
 #endif
 
-#include "detexture/io/read_point_cloud.h"
-#include "detexture/io/write_point_cloud.h"
 #include "detexture/types.h"
+#include "peer_common.h"
 
 namespace {
 
@@ -57,44 +53,7 @@ struct Params {
 
 const char* kProgram = "peer_cgal_bilateral";
 
-/// A length as given on the command line: "0.5" in model units or "0.02d", a
-/// fraction of the bounding-box diagonal d (detexture's own syntax).
-struct LengthArg {
-  double value = 0.0;
-  bool relative = false;
-  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
-};
-
-LengthArg parse_length_arg(const std::string& text, const std::string& option) {
-  LengthArg length;
-  std::string number = text;
-  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
-    length.relative = true;
-    number.pop_back();
-  }
-  std::size_t used = 0;
-  try {
-    length.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (number.empty() || used != number.size() || !std::isfinite(length.value) || length.value < 0.0)
-    throw CLI::ValidationError(
-        option,
-        "expected a length >= 0 in model units (0.5) or as a fraction of the "
-        "bounding-box diagonal (0.02d), got '" +
-            text + "'");
-  return length;
-}
-
-/// Refuse output == input before any work (the writer refuses too, but only
-/// after the algorithm has run).
-void check_output_is_not_input(const std::string& input, const std::string& output) {
-  std::error_code error;
-  if (std::filesystem::exists(output, error) && std::filesystem::equivalent(input, output, error))
-    throw std::runtime_error("output '" + output +
-                             "' is the input file; choose another output path.");
-}
+namespace peers = detexture::peers;
 
 }  // namespace
 
@@ -105,10 +64,7 @@ int main(int argc, char** argv) {
       "Reads a PLY with normals, writes the smoothed points and normals; the last line of\n"
       "stdout is `seconds: <time of the smoothing passes, without I/O>`.",
       kProgram};
-  app.add_option("input", params.input, "Input PLY with normals")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("output", params.output, "Output PLY (binary little endian)")->required();
+  peers::add_input_output_options(app, params.input, params.output, "Input PLY with normals");
   app.add_option(
          "-k,--neighbors", params.neighbors,
          "Neighbourhood size K (>= 2). Also sets CGAL's spatial bandwidth: 0.95 x the largest "
@@ -132,20 +88,14 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 
-  LengthArg radius_arg;
-  try {
-    app.parse(argc, argv);
-    radius_arg = parse_length_arg(params.radius, "--radius");
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (run with --help for usage)\n", kProgram, e.what());
-    return 2;
-  }
+  detexture::Length radius_arg;
+  if (const auto stop = peers::parse_command_line(app, argc, argv, kProgram, [&] {
+        radius_arg = peers::parse_length_option(params.radius, "--radius", true);
+      }))
+    return *stop;
 
-  try {
-    check_output_is_not_input(params.input, params.output);
-    detexture::PointCloud cloud = detexture::read_point_cloud(params.input);
+  return peers::run_reporting_errors(kProgram, [&] {
+    detexture::PointCloud cloud = peers::read_input(params.input, params.output);
     if (!cloud.has_normals())
       throw std::runtime_error(
           "input '" + params.input +
@@ -167,8 +117,7 @@ int main(int argc, char** argv) {
       points[i] = {Point(p(0), p(1), p(2)), Vector(q(0), q(1), q(2))};
     }
 
-    const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-    const int threads = params.threads > 0 ? params.threads : (hardware > 0 ? hardware : 1);
+    const int threads = peers::thread_count(params.threads);
 #ifdef CGAL_LINKED_WITH_TBB
     tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism,
                                      static_cast<std::size_t>(threads));
@@ -176,7 +125,7 @@ int main(int argc, char** argv) {
 #else
     std::printf("parallel: no (built without TBB), 1 thread\n");
 #endif
-    const double radius = radius_arg.resolve(detexture::bounding_box_diagonal(cloud.positions));
+    const double radius = peers::resolve_length(radius_arg, cloud.positions);
     std::printf("points: %zu\n", n);
     std::printf("neighbourhood: %s\n",
                 radius > 0.0 ? ("radius " + std::to_string(radius) + ", at most " +
@@ -185,7 +134,7 @@ int main(int argc, char** argv) {
                              : (std::to_string(params.neighbors) + " nearest").c_str());
     std::fflush(stdout);
 
-    const auto start = std::chrono::steady_clock::now();
+    const peers::Stopwatch stopwatch;
     for (int it = 0; it < params.iterations; ++it) {
       const double mean_sq_move = CGAL::bilateral_smooth_point_set<CGAL::Parallel_if_available_tag>(
           points, params.neighbors,
@@ -199,8 +148,7 @@ int main(int argc, char** argv) {
             std::to_string(it + 1) + " (a point with no neighbour within the bandwidth?).");
       std::printf("iteration %d: mean squared point movement %.9g\n", it + 1, mean_sq_move);
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = stopwatch.seconds();
 
     for (std::size_t i = 0; i < n; ++i) {
       const Point& p = points[i].first;
@@ -208,15 +156,9 @@ int main(int argc, char** argv) {
       cloud.positions.row(static_cast<Eigen::Index>(i)) << p.x(), p.y(), p.z();
       cloud.normals.row(static_cast<Eigen::Index>(i)) << q.x(), q.y(), q.z();
     }
-    detexture::WriteOptions options;
-    options.format = detexture::FileFormat::Ply;
-    options.protect_path = params.input;
-    detexture::write_point_cloud(params.output, cloud, options);
+    peers::write_output(params.output, cloud, params.input);
 
-    std::printf("seconds: %.6f\n", seconds);
+    peers::print_seconds(seconds);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", kProgram, e.what());
-    return 1;
-  }
+  });
 }

@@ -29,14 +29,11 @@
 #include <CGAL/tags.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <exception>
-#include <filesystem>
+#include <stdexcept>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -45,9 +42,8 @@
 #endif
 
 #include "detexture/geometry/radius_neighborhoods.h"
-#include "detexture/io/read_point_cloud.h"
-#include "detexture/io/write_point_cloud.h"
 #include "detexture/types.h"
+#include "peer_common.h"
 
 namespace {
 
@@ -70,44 +66,7 @@ struct Params {
 
 const char* kProgram = "peer_cgal_jet";
 
-/// A length as given on the command line: "0.5" in model units or "0.02d", a
-/// fraction of the bounding-box diagonal d (detexture's own syntax).
-struct LengthArg {
-  double value = 0.0;
-  bool relative = false;
-  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
-};
-
-LengthArg parse_length_arg(const std::string& text, const std::string& option) {
-  LengthArg length;
-  std::string number = text;
-  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
-    length.relative = true;
-    number.pop_back();
-  }
-  std::size_t used = 0;
-  try {
-    length.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (number.empty() || used != number.size() || !std::isfinite(length.value) || length.value < 0.0)
-    throw CLI::ValidationError(
-        option,
-        "expected a length >= 0 in model units (0.5) or as a fraction of the "
-        "bounding-box diagonal (0.02d), got '" +
-            text + "'");
-  return length;
-}
-
-/// Refuse output == input before any work (the writer refuses too, but only
-/// after the algorithm has run).
-void check_output_is_not_input(const std::string& input, const std::string& output) {
-  std::error_code error;
-  if (std::filesystem::exists(output, error) && std::filesystem::equivalent(input, output, error))
-    throw std::runtime_error("output '" + output +
-                             "' is the input file; choose another output path.");
-}
+namespace peers = detexture::peers;
 
 /// With --radius: fit a jet at every point to its radius neighbourhood (the
 /// point first, as Monge_via_jet_fitting evaluates the jet there). Smooths the
@@ -171,10 +130,8 @@ int main(int argc, char** argv) {
       "with the input normals when there are any); the last line of stdout is\n"
       "`seconds: <time of smoothing + normal estimation + orientation, without I/O>`.",
       kProgram};
-  app.add_option("input", params.input, "Input PLY (normals optional, used only for orientation)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("output", params.output, "Output PLY (binary little endian)")->required();
+  peers::add_input_output_options(app, params.input, params.output,
+                                  "Input PLY (normals optional, used only for orientation)");
   app.add_option(
          "-k,--neighbors", params.neighbors,
          "Neighbourhood size K (>= 2) for CGAL::jet_smooth_point_set; ignored with --radius")
@@ -204,29 +161,22 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 
-  LengthArg radius_arg;
-  try {
-    app.parse(argc, argv);
-    radius_arg = parse_length_arg(params.radius, "--radius");
-    if (params.degree_monge > params.degree_fitting)
-      throw CLI::ValidationError("--degree-monge", "must not exceed --degree (" +
-                                                       std::to_string(params.degree_fitting) + ")");
-    const unsigned int normal_k =
-        params.normal_neighbors > 0 ? params.normal_neighbors : params.neighbors;
-    if (radius_arg.value == 0.0 && (params.neighbors < 2 || normal_k < 2))
-      throw CLI::ValidationError("--neighbors", "must be at least 2 without --radius");
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (run with --help for usage)\n", kProgram, e.what());
-    return 2;
-  }
-  const unsigned int normal_k =
-      params.normal_neighbors > 0 ? params.normal_neighbors : params.neighbors;
+  detexture::Length radius_arg;
+  unsigned int normal_k = 0;
+  if (const auto stop = peers::parse_command_line(app, argc, argv, kProgram, [&] {
+        radius_arg = peers::parse_length_option(params.radius, "--radius", true);
+        if (params.degree_monge > params.degree_fitting)
+          throw CLI::ValidationError(
+              "--degree-monge",
+              "must not exceed --degree (" + std::to_string(params.degree_fitting) + ")");
+        normal_k = params.normal_neighbors > 0 ? params.normal_neighbors : params.neighbors;
+        if (radius_arg.value == 0.0 && (params.neighbors < 2 || normal_k < 2))
+          throw CLI::ValidationError("--neighbors", "must be at least 2 without --radius");
+      }))
+    return *stop;
 
-  try {
-    check_output_is_not_input(params.input, params.output);
-    detexture::PointCloud cloud = detexture::read_point_cloud(params.input);
+  return peers::run_reporting_errors(kProgram, [&] {
+    detexture::PointCloud cloud = peers::read_input(params.input, params.output);
     const std::size_t n = cloud.size();
     // A degree-d jet needs (d+1)(d+2)/2 points: 6 for degree 2. Refuse clouds
     // too small for any fit rather than let CGAL divide by zero.
@@ -247,9 +197,8 @@ int main(int argc, char** argv) {
       points[i] = {Point(p(0), p(1), p(2)), m};
     }
 
-    const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-    const int threads = params.threads > 0 ? params.threads : (hardware > 0 ? hardware : 1);
-    const double radius = radius_arg.resolve(detexture::bounding_box_diagonal(cloud.positions));
+    const int threads = peers::thread_count(params.threads);
+    const double radius = peers::resolve_length(radius_arg, cloud.positions);
 #ifdef CGAL_LINKED_WITH_TBB
     tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism,
                                      static_cast<std::size_t>(threads));
@@ -276,7 +225,7 @@ int main(int argc, char** argv) {
     const auto point_map = CGAL::First_of_pair_property_map<PointWithNormal>();
     const auto normal_map = CGAL::Second_of_pair_property_map<PointWithNormal>();
     std::size_t unsmoothed = 0, unestimated = 0;
-    const auto start = std::chrono::steady_clock::now();
+    const peers::Stopwatch stopwatch;
     if (radius > 0.0) {
       unsmoothed = jet_fit_radius(points, radius, params.max_neighbors, params.degree_fitting,
                                   params.degree_monge, true, threads);
@@ -305,8 +254,7 @@ int main(int argc, char** argv) {
         }
       }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = stopwatch.seconds();
 
     if (!orient) cloud.normals.resize(static_cast<Eigen::Index>(n), 3);
     for (std::size_t i = 0; i < n; ++i) {
@@ -315,10 +263,7 @@ int main(int argc, char** argv) {
       cloud.positions.row(static_cast<Eigen::Index>(i)) << p.x(), p.y(), p.z();
       cloud.normals.row(static_cast<Eigen::Index>(i)) << q.x(), q.y(), q.z();
     }
-    detexture::WriteOptions options;
-    options.format = detexture::FileFormat::Ply;
-    options.protect_path = params.input;
-    detexture::write_point_cloud(params.output, cloud, options);
+    peers::write_output(params.output, cloud, params.input);
 
     if (radius > 0.0) {
       std::printf("points kept at their input position (too few neighbours or no fit): %zu\n",
@@ -329,10 +274,7 @@ int main(int argc, char** argv) {
       std::printf("normals flipped to agree with the input: %zu\n", flipped);
     else
       std::printf("normals: input has none; jet normals written unoriented\n");
-    std::printf("seconds: %.6f\n", seconds);
+    peers::print_seconds(seconds);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", kProgram, e.what());
-    return 1;
-  }
+  });
 }

@@ -18,19 +18,14 @@
 #include <pcl/surface/mls.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
-#include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <exception>
-#include <filesystem>
-#include <map>
+#include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include "detexture/io/read_point_cloud.h"
-#include "detexture/io/write_point_cloud.h"
 #include "detexture/types.h"
+#include "peer_common.h"
 
 namespace {
 
@@ -50,44 +45,7 @@ struct Params {
 
 const char* kProgram = "peer_pcl_mls";
 
-/// A length as given on the command line: "0.5" in model units or "0.02d", a
-/// fraction of the bounding-box diagonal d (detexture's own syntax).
-struct LengthArg {
-  double value = 0.0;
-  bool relative = false;
-  double resolve(double diagonal) const { return relative ? value * diagonal : value; }
-};
-
-LengthArg parse_length_arg(const std::string& text, const std::string& option) {
-  LengthArg length;
-  std::string number = text;
-  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
-    length.relative = true;
-    number.pop_back();
-  }
-  std::size_t used = 0;
-  try {
-    length.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (number.empty() || used != number.size() || !std::isfinite(length.value) || length.value < 0.0)
-    throw CLI::ValidationError(
-        option,
-        "expected a length >= 0 in model units (0.5) or as a fraction of the "
-        "bounding-box diagonal (0.02d), got '" +
-            text + "'");
-  return length;
-}
-
-/// Refuse output == input before any work (the writer refuses too, but only
-/// after the algorithm has run).
-void check_output_is_not_input(const std::string& input, const std::string& output) {
-  std::error_code error;
-  if (std::filesystem::exists(output, error) && std::filesystem::equivalent(input, output, error))
-    throw std::runtime_error("output '" + output +
-                             "' is the input file; choose another output path.");
-}
+namespace peers = detexture::peers;
 
 }  // namespace
 
@@ -99,10 +57,8 @@ int main(int argc, char** argv) {
       "the input normals when there are any); the last line of stdout is\n"
       "`seconds: <time of MLS + normal orientation, without I/O>`.",
       kProgram};
-  app.add_option("input", params.input, "Input PLY (normals optional, used only for orientation)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  app.add_option("output", params.output, "Output PLY (binary little endian)")->required();
+  peers::add_input_output_options(app, params.input, params.output,
+                                  "Input PLY (normals optional, used only for orientation)");
   app.add_option(
          "-r,--radius", params.radius,
          "Search radius (> 0), in model units or as a fraction of the bounding-box diagonal "
@@ -127,21 +83,14 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 
-  LengthArg radius_arg;
-  try {
-    app.parse(argc, argv);
-    radius_arg = parse_length_arg(params.radius, "--radius");
-    if (radius_arg.value <= 0.0) throw CLI::ValidationError("--radius", "must be > 0");
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (run with --help for usage)\n", kProgram, e.what());
-    return 2;
-  }
+  detexture::Length radius_arg;
+  if (const auto stop = peers::parse_command_line(app, argc, argv, kProgram, [&] {
+        radius_arg = peers::parse_length_option(params.radius, "--radius", false);
+      }))
+    return *stop;
 
-  try {
-    check_output_is_not_input(params.input, params.output);
-    detexture::PointCloud cloud = detexture::read_point_cloud(params.input);
+  return peers::run_reporting_errors(kProgram, [&] {
+    detexture::PointCloud cloud = peers::read_input(params.input, params.output);
     const std::size_t n = cloud.size();
     const bool orient = cloud.has_normals();
 
@@ -167,10 +116,9 @@ int main(int argc, char** argv) {
     input->height = 1;
     input->is_dense = true;
 
-    const int hardware = static_cast<int>(std::thread::hardware_concurrency());
-    const int threads = params.threads > 0 ? params.threads : (hardware > 0 ? hardware : 1);
+    const int threads = peers::thread_count(params.threads);
     std::printf("parallel: OpenMP, %d threads\n", threads);
-    const double radius = radius_arg.resolve(detexture::bounding_box_diagonal(cloud.positions));
+    const double radius = peers::resolve_length(radius_arg, cloud.positions);
     if (!(radius > 0.0))
       throw std::runtime_error("input '" + params.input +
                                "' has a zero bounding-box diagonal; give --radius in model units.");
@@ -181,7 +129,7 @@ int main(int argc, char** argv) {
     pcl::PointCloud<PclPoint> result;
     std::vector<int> source_of(n, -1);  // output row of each input point, -1 = dropped by PCL
     std::size_t flipped = 0;
-    const auto start = std::chrono::steady_clock::now();
+    const peers::Stopwatch stopwatch;
     {
       Mls mls;
       mls.setInputCloud(input);
@@ -217,8 +165,7 @@ int main(int argc, char** argv) {
         }
       }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = stopwatch.seconds();
 
     if (!orient) cloud.normals = detexture::Normals::Zero(static_cast<Eigen::Index>(n), 3);
     std::size_t kept = 0;
@@ -231,20 +178,14 @@ int main(int argc, char** argv) {
       cloud.positions.row(static_cast<Eigen::Index>(i)) << q.x, q.y, q.z;
       cloud.normals.row(static_cast<Eigen::Index>(i)) << q.normal_x, q.normal_y, q.normal_z;
     }
-    detexture::WriteOptions options;
-    options.format = detexture::FileFormat::Ply;
-    options.protect_path = params.input;
-    detexture::write_point_cloud(params.output, cloud, options);
+    peers::write_output(params.output, cloud, params.input);
 
     std::printf("points with fewer than 3 neighbours, kept unchanged: %zu\n", kept);
     if (orient)
       std::printf("normals flipped to agree with the input: %zu\n", flipped);
     else
       std::printf("normals: input has none; MLS normals written unoriented\n");
-    std::printf("seconds: %.6f\n", seconds);
+    peers::print_seconds(seconds);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", kProgram, e.what());
-    return 1;
-  }
+  });
 }
