@@ -141,50 +141,70 @@ UpdatePositionsResult update_global(const Positions& P, const Normals& N, const 
     rhs(static_cast<Eigen::Index>(i)) = b_i;
   }
 
-  auto multiply = [&](const Eigen::VectorXd& x, Eigen::VectorXd& y) {
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (std::size_t i = 0; i < n; ++i) {
-      double s = diag(static_cast<Eigen::Index>(i)) * x(static_cast<Eigen::Index>(i));
-      const std::uint32_t* nb = R.begin(i);
-      for (std::uint64_t e = offsets[i]; e < offsets[i + 1]; ++e, ++nb)
-        s += static_cast<double>(off_diag[e]) * x(*nb);
-      y(static_cast<Eigen::Index>(i)) = s;
-    }
-  };
-  // Deterministic parallel dot product: fixed blocks summed in order.
-  auto dot = [n](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-    constexpr std::size_t kBlock = 4096;
-    const std::size_t blocks = (n + kBlock - 1) / kBlock;
-    std::vector<double> partial(blocks);
-#pragma omp parallel for schedule(static)
-    for (std::size_t k = 0; k < blocks; ++k) {
-      const std::size_t lo = k * kBlock, len = std::min(n, lo + kBlock) - lo;
-      partial[k] = a.segment(lo, len).dot(b.segment(lo, len));
-    }
+  // Jacobi-preconditioned conjugate gradients from t = 0, three parallel
+  // loops per step over fixed blocks of rows. Dot products are summed per
+  // block and then in block order, so the result does not depend on the
+  // number of threads; few parallel regions keep idle threads from spinning.
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<double> t(n, 0.0), r(n), z(n), p(n), Ap(n), inv_diag(n);
+  std::vector<double> part_a(blocks), part_b(blocks);
+  auto block_sum = [](const std::vector<double>& part) {
     double s = 0.0;
-    for (double v : partial) s += v;
+    for (double v : part) s += v;
     return s;
   };
-
-  // Jacobi-preconditioned conjugate gradients from t = 0.
-  const Eigen::Index m = static_cast<Eigen::Index>(n);
-  Eigen::VectorXd t = Eigen::VectorXd::Zero(m), r = rhs, z(m), p(m), Ap(m);
-  const Eigen::VectorXd inv_diag = diag.cwiseInverse();
-  z = inv_diag.cwiseProduct(r);
-  p = z;
-  double rz = dot(r, z);
-  const double stop = params.tolerance * std::sqrt(dot(rhs, rhs));
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < blocks; ++k) {
+    double rz = 0.0, bb = 0.0;
+    for (std::size_t i = k * kBlock; i < std::min(n, (k + 1) * kBlock); ++i) {
+      inv_diag[i] = 1.0 / diag(static_cast<Eigen::Index>(i));
+      r[i] = rhs(static_cast<Eigen::Index>(i));
+      z[i] = p[i] = inv_diag[i] * r[i];
+      rz += r[i] * z[i];
+      bb += r[i] * r[i];
+    }
+    part_a[k] = rz;
+    part_b[k] = bb;
+  }
+  double rz = block_sum(part_a), rr = block_sum(part_b);
+  const double stop = params.tolerance * std::sqrt(rr);
   int it = 0;
-  while (it < params.max_iterations && std::sqrt(dot(r, r)) > stop) {
+  while (it < params.max_iterations && std::sqrt(rr) > stop) {
     ++it;
-    multiply(p, Ap);
-    const double alpha = rz / dot(p, Ap);
-    t += alpha * p;
-    r -= alpha * Ap;
-    z = inv_diag.cwiseProduct(r);
-    const double rz_next = dot(r, z);
-    p = z + (rz_next / rz) * p;
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < blocks; ++k) {  // Ap = A p, and p·Ap
+      double pAp = 0.0;
+      for (std::size_t i = k * kBlock; i < std::min(n, (k + 1) * kBlock); ++i) {
+        double s = diag(static_cast<Eigen::Index>(i)) * p[i];
+        const std::uint32_t* nb = R.begin(i);
+        for (std::uint64_t e = offsets[i]; e < offsets[i + 1]; ++e, ++nb)
+          s += static_cast<double>(off_diag[e]) * p[*nb];
+        Ap[i] = s;
+        pAp += p[i] * s;
+      }
+      part_a[k] = pAp;
+    }
+    const double alpha = rz / block_sum(part_a);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < blocks; ++k) {  // t, r, z, and r·z, r·r
+      double rz_k = 0.0, rr_k = 0.0;
+      for (std::size_t i = k * kBlock; i < std::min(n, (k + 1) * kBlock); ++i) {
+        t[i] += alpha * p[i];
+        r[i] -= alpha * Ap[i];
+        z[i] = inv_diag[i] * r[i];
+        rz_k += r[i] * z[i];
+        rr_k += r[i] * r[i];
+      }
+      part_a[k] = rz_k;
+      part_b[k] = rr_k;
+    }
+    const double rz_next = block_sum(part_a);
+    rr = block_sum(part_b);
+    const double beta = rz_next / rz;
     rz = rz_next;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
     if (progress) progress(static_cast<double>(it) / params.max_iterations);
   }
   if (progress) progress(1.0);
@@ -193,8 +213,8 @@ UpdatePositionsResult update_global(const Positions& P, const Normals& N, const 
   out.positions = P;
   double moved = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    out.positions.row(i) += t(static_cast<Eigen::Index>(i)) * N.row(i);
-    moved += std::abs(t(static_cast<Eigen::Index>(i)));
+    out.positions.row(i) += t[i] * N.row(i);
+    moved += std::abs(t[i]);
   }
   out.iterations = it;
   out.isolated = isolated;
