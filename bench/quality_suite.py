@@ -14,6 +14,7 @@ criterion are all defined here, in one place, and documented in bench/README.md.
 import argparse
 import concurrent.futures
 import datetime
+import hashlib
 import itertools
 import json
 import math
@@ -29,6 +30,7 @@ from dataclasses import dataclass
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PEER_PARAMS_FILE = os.path.join(REPO, "bench", "peer_params.json")
 RESULTS_FILE = os.path.join(REPO, "bench", "RESULTS.md")
+NOTES_FILE = os.path.join(REPO, "bench", "quality_notes.md")  # hand-written reading, copied in
 QUALITY_BEGIN, QUALITY_END = "<!-- quality:begin -->", "<!-- quality:end -->"
 SPEED_BEGIN, SPEED_END = "<!-- speed:begin -->", "<!-- speed:end -->"
 
@@ -117,16 +119,19 @@ SUITE = [
 # --------------------------------------------------------------------------
 
 RADIUS_FACTOR = 1.5  # r = 1.5 R
-NOISE_LAMBDA_FACTOR = 3.0  # lambda = max(default 0.002 d, 3 sigma_noise)
-DEFAULT_LAMBDA_FRACTION = 0.002
+NOISE_LAMBDA_FACTOR = 3.0  # lambda = max(default 0.05 r, 3 sigma_noise)
+DEFAULT_LAMBDA_OF_R = 0.05  # detexture's default lambda = 0.05r (since 6357b08)
 
 
 def detexture_rule(case):
-    """Parameters a user would pick from the texture scale (and noise level)."""
+    """Parameters a user would pick from the texture scale (and noise level).
+
+    sigma_s = r is detexture's default; it is written out so the rule does not
+    drift with the defaults."""
     r = RADIUS_FACTOR * case.size
     args = ["-r", fmt(r), "--sigma-s", fmt(r)]
     lam = NOISE_LAMBDA_FACTOR * case.noise_sigma()
-    if lam > DEFAULT_LAMBDA_FRACTION * SHAPE_DIAGONAL[case.shape]:
+    if lam > DEFAULT_LAMBDA_OF_R * r:
         args += ["--lambda", fmt(lam)]
     return args
 
@@ -267,28 +272,34 @@ def detexture_bin(build):
 
 
 def ensure_built(build, allow_build):
-    """Build detexture and the peers into `build` when they are missing."""
-    missing = not os.access(detexture_bin(build), os.X_OK)
-    peers_configured = False
-    cache = os.path.join(build, "CMakeCache.txt")
-    if os.path.exists(cache):
-        with open(cache) as f:
-            peers_configured = "DETEXTURE_BUILD_PEERS:BOOL=ON" in f.read()
-    if not missing and peers_configured:
-        # Configured with peers: make sure they are built (a no-op when up to date).
-        missing = not os.path.isdir(os.path.join(build, "bench", "peers"))
-    if not missing and peers_configured:
+    """Bring detexture in `build` up to date with the source (a no-op when it is),
+    and build the peers when they are missing.
+
+    The peers are not rebuilt when present: they relink whenever detexture's
+    library changes, which would needlessly invalidate their cached outputs
+    (their algorithms come from CGAL, PCL and MeshLab, not from src/)."""
+    if not allow_build:
+        if not os.access(detexture_bin(build), os.X_OK):
+            sys.exit(f"error: {detexture_bin(build)} is missing; build it (bench/README.md) or drop --no-build")
         return
-    if not missing and not peers_configured:
+    cache = os.path.join(build, "CMakeCache.txt")
+    if not os.path.exists(cache):
+        log(f"configuring {build} (Release, with the peers) ...")
+        subprocess.run(["cmake", "-S", REPO, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
+                        "-DDETEXTURE_BUILD_PEERS=ON"], check=True)
+    with open(cache) as f:
+        peers_configured = "DETEXTURE_BUILD_PEERS:BOOL=ON" in f.read()
+    targets = ["detexture"]
+    if peers_configured:
+        if not os.path.isdir(os.path.join(build, "bench", "peers")) or not any(
+                peer_program(build, p) for p in ("cgal-bilateral", "cgal-jet", "pcl-mls")):
+            targets.append("peers")
+    else:
         log(f"note: {build} was configured without -DDETEXTURE_BUILD_PEERS=ON; "
             "the compiled peers will be skipped (reconfigure to include them)")
-        return
-    if not allow_build:
-        sys.exit(f"error: {detexture_bin(build)} is missing; build it (bench/README.md) or drop --no-build")
-    log(f"building detexture and the peers in {build} (Release, -j2) ...")
-    subprocess.run(["cmake", "-S", REPO, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
-                    "-DDETEXTURE_BUILD_PEERS=ON"], check=True)
-    subprocess.run(["cmake", "--build", build, "-j2", "--target", "detexture", "peers"], check=True)
+    log(f"building {' '.join(targets)} in {build} (-j2) ...")
+    subprocess.run(["cmake", "--build", build, "-j2", "--target"] + targets, check=True,
+                   stdout=subprocess.DEVNULL)
 
 
 # --------------------------------------------------------------------------
@@ -389,22 +400,26 @@ def tune(args):
                     "dmean": m["dmean"], "seconds": m["seconds"]}
             table.append(row)
         result["peers"][peer] = {"params": grid[best], "mean_rank": round(scores[best], 3),
-                                 "grid": PEER_GRIDS[peer], "results": table}
+                                 "grid": PEER_GRIDS[peer], "date": datetime.date.today().isoformat(),
+                                 "command": "bench/tune_peers " + " ".join(sys.argv[2:]),
+                                 "results": table}
         log(f"{peer}: best {params_label(peer, grid[best])} (mean rank {scores[best]:.2f} of {len(grid)})")
         for gi in sorted(range(len(grid)), key=lambda gi: scores[gi])[:5]:
             log(f"    {scores[gi]:6.2f}  {params_label(peer, grid[gi])}")
+        save_tuning(result, args)  # after every peer, so a crash loses at most one
+    log(f"done in {time.monotonic() - t_start:.0f} s")
 
+
+def save_tuning(result, args):
     result["criterion"] = ("for each case, rank the grid's settings by residual texture (signed std of "
                            "the distance to the ground truth) and by mean normal error; a setting's score "
                            "is the mean over cases of the average of its two ranks; lowest score wins")
     result["tuned_points"] = args.points
-    result["suite"] = [c.name for c in cases]
-    result["date"] = datetime.date.today().isoformat()
-    result["command"] = "bench/tune_peers " + " ".join(sys.argv[2:])
+    result["suite"] = [c.name for c in SUITE]
     with open(PEER_PARAMS_FILE, "w") as f:
         json.dump(result, f, indent=1)
         f.write("\n")
-    log(f"wrote {PEER_PARAMS_FILE} in {time.monotonic() - t_start:.0f} s")
+    log(f"wrote {PEER_PARAMS_FILE}")
 
 
 # --------------------------------------------------------------------------
@@ -456,9 +471,9 @@ def load_peer_params():
 
 
 def quality(args):
-    t_start = time.monotonic()
     build = os.path.abspath(args.build)
     ensure_built(build, not args.no_build)
+    t_start = time.monotonic()  # the benchmark's time excludes building
     work = os.path.abspath(args.work or os.path.join(build, "bench-quality"))
     os.makedirs(work, exist_ok=True)
     cases = [c for c in SUITE if not args.cases or c.name in args.cases.split(",")]
@@ -494,10 +509,18 @@ def quality(args):
             else:
                 cmd = [peer_program(build, method), ply, out] + \
                     peer_args(method, peer_params[method]["params"], case, POINTS)
+                cached = None if args.no_cache else cached_peer_run(cmd, out)
+                if cached is not None:
+                    runs[(case.name, method)] = {"out": out, "seconds": cached["seconds"], "error": "",
+                                                 "cmd": cmd, "cached": cached["date"]}
+                    log(f"{case.name:26s} {method:20s} {cached['seconds']:7.1f} s (cached, {cached['date']})")
+                    continue
                 if os.path.exists(out):
                     os.remove(out)
                 ok, stdout, msg = run(cmd, logp, args.timeout)
                 secs = last_seconds(stdout) if ok else None
+                if ok:
+                    store_peer_run(cmd, out, secs)
             runs[(case.name, method)] = {"out": out, "seconds": secs, "error": msg, "cmd": cmd}
             log(f"{case.name:26s} {method:20s} " + (f"{secs:7.1f} s" if ok else f"FAILED {msg}"))
 
@@ -524,6 +547,38 @@ def quality(args):
         log(f"wrote the quality section of {RESULTS_FILE}")
 
 
+def file_digest(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def peer_run_key(cmd):
+    """What a peer's output depends on: its program, its input and its options."""
+    program, inp, _out, *options = cmd
+    return {"program": file_digest(program), "input": file_digest(inp), "options": options}
+
+
+def cached_peer_run(cmd, out):
+    """The stored result of exactly this peer run, if its output is still there."""
+    meta = out[:-4] + ".cache.json"
+    if not (os.path.exists(meta) and os.path.exists(out)):
+        return None
+    with open(meta) as f:
+        stored = json.load(f)
+    if stored.get("key") != peer_run_key(cmd) or stored.get("output") != file_digest(out):
+        return None
+    return stored
+
+
+def store_peer_run(cmd, out, seconds):
+    with open(out[:-4] + ".cache.json", "w") as f:
+        json.dump({"key": peer_run_key(cmd), "output": file_digest(out), "seconds": seconds,
+                   "date": datetime.datetime.now().strftime("%Y-%m-%d %H:%M")}, f, indent=1)
+
+
 def method_label(m):
     return PEER_LABEL.get(m, m)
 
@@ -538,6 +593,13 @@ def render(cases, methods, status, runs, peer_params, total, args):
              f"Whole run (synthesis, all methods, all comparisons): **{total / 60:.1f} min** "
              f"(machine shared with other work, so times are noisy). "
              f"Suite, parameter rule and peer tuning: bench/README.md.")
+    cached = sorted({r["cached"] for r in runs.values() if r.get("cached")})
+    if cached:
+        n = sum(1 for r in runs.values() if r.get("cached"))
+        L.append("")
+        L.append(f"† {n} peer runs were taken from identical earlier runs (same program, input and "
+                 f"options; made {cached[0]}" + (f" to {cached[-1]}" if len(cached) > 1 else "") + ") instead of being rerun, and their seconds are from "
+                 f"then; the run time above excludes them (`--no-cache` reruns everything).")
     L.append("")
     L.append("Columns: distances to the ground-truth surface (point-to-plane at the nearest "
              "ground-truth sample, model units; every base shape fits the unit box): Dmean, Dmax, "
@@ -595,7 +657,7 @@ def render(cases, methods, status, runs, peer_params, total, args):
                 if m != "input" and key in best and best[key] is not None and v == best[key]:
                     s = f"**{s}**"
                 cells.append(s)
-            secs = "" if r["seconds"] is None else f"{r['seconds']:.1f}"
+            secs = "" if r["seconds"] is None else f"{r['seconds']:.1f}" + ("†" if r.get("cached") else "")
             L.append(f"| {method_label(m)} | " + " | ".join(cells) + f" | {secs} |")
         L.append("")
 
@@ -654,6 +716,10 @@ def render(cases, methods, status, runs, peer_params, total, args):
                                  + ", ".join(better))
         L += lines or ["- none: the full method is best on residual texture, normal error and Dmean in every case."]
         L.append("")
+    if os.path.exists(NOTES_FILE) and not args.cases and not args.methods:
+        with open(NOTES_FILE) as f:
+            L.append(f.read().rstrip("\n"))
+        L.append("")
     return "\n".join(L)
 
 
@@ -686,6 +752,9 @@ def main():
         p.add_argument("--timeout", type=float, default=600, help="seconds per method run (default 600)")
     q.add_argument("--cases", help="comma-separated subset of cases (the table then covers only those)")
     q.add_argument("--methods", help="comma-separated subset of methods")
+    q.add_argument("--no-cache", action="store_true",
+                   help="rerun the peers even when an identical earlier run (same program, input and "
+                        "options) left its output in the work folder")
     q.add_argument("--no-results", action="store_true", help="print the Markdown instead of writing RESULTS.md")
     t.add_argument("--points", type=int, default=TUNE_POINTS, help=f"points per case (default {TUNE_POINTS})")
     t.add_argument("--peers", help="comma-separated subset of peers")
