@@ -9,7 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
+
 #include "detexture/geometry/point_index.h"
+#include "random.h"
 
 namespace detexture {
 namespace {
@@ -31,12 +33,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // standard libraries.
 enum Stream : std::uint64_t { kPoints = 1, kGroundTruth, kFeatures, kSigns };
 
-std::uint64_t mix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
+std::uint64_t mix64(std::uint64_t x) { return splitmix64_mix(x + 0x9E3779B97F4A7C15ull); }
 
 class Rng {
  public:

@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "pipeline/random.h"
 #include "progress_counter.h"
+#include "random.h"
 
 namespace detexture {
 namespace {
