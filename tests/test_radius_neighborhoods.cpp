@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace detexture {
@@ -48,6 +49,32 @@ TEST(RadiusNeighborhoods, SortedByDistanceAndCapKeepsNearest) {
     const std::size_t expect = std::min<std::size_t>(8, all.count(i));
     ASSERT_EQ(capped.count(i), expect);
     EXPECT_TRUE(std::equal(capped.begin(i), capped.end(i), all.begin(i)));
+  }
+}
+
+// Equal distances (a regular grid, and duplicated points) are ordered by
+// index; distances bunched at the rim exercise the distance buckets.
+TEST(RadiusNeighborhoods, TiesOrderedByIndex) {
+  Positions P(0, 3);
+  std::vector<Eigen::RowVector3d> rows;
+  for (int x = -3; x <= 3; ++x)
+    for (int y = -3; y <= 3; ++y) rows.emplace_back(x, y, 0.0);
+  for (int k = 0; k < 5; ++k) rows.emplace_back(0.0, 0.0, 0.0);  // duplicates of the centre
+  for (int k = 0; k < 40; ++k)  // a ring just inside the radius, and its twin
+    rows.emplace_back(2.99 * std::cos(k * 0.157), 2.99 * std::sin(k * 0.157), 0.0);
+  P.resize(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t i = 0; i < rows.size(); ++i) P.row(static_cast<Eigen::Index>(i)) = rows[i];
+  const Neighborhoods N = radius_neighborhoods(P, {3.0, 0});
+  for (int i = 0; i < P.rows(); ++i) {
+    std::vector<std::uint32_t> expected;
+    for (int j = 0; j < P.rows(); ++j)
+      if ((P.row(i) - P.row(j)).squaredNorm() < 9.0) expected.push_back(j);
+    std::stable_sort(expected.begin(), expected.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return static_cast<float>((P.row(i) - P.row(a)).squaredNorm()) <
+             static_cast<float>((P.row(i) - P.row(b)).squaredNorm());
+    });
+    const std::vector<std::uint32_t> got(N.begin(i), N.end(i));
+    ASSERT_EQ(got, expected) << "point " << i;
   }
 }
 

@@ -10,9 +10,10 @@
 namespace detexture {
 
 /// Compressed rows: the neighbors of point i are
-/// indices[offsets[i] .. offsets[i+1]), sorted by increasing distance, the
-/// point itself first. Squared distances are not stored (they are cheap to
-/// recompute and would double the memory).
+/// indices[offsets[i] .. offsets[i+1]), sorted by increasing distance (the
+/// squared distance rounded to float), ties by index: the point itself comes
+/// first unless it has exact duplicates. Squared distances are not stored
+/// (they are cheap to recompute and would double the memory).
 struct Neighborhoods {
   std::vector<std::uint64_t> offsets;  ///< #P+1
   std::vector<std::uint32_t> indices;  ///< offsets.back()
