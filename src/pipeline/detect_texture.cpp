@@ -11,11 +11,68 @@
 namespace detexture {
 namespace {
 
+// Neighbors of one point as structure-of-arrays floats relative to the point,
+// so that counting a plane's inliers is one contiguous loop the compiler
+// vectorizes (4 per instruction with SSE2; measured 2x faster than the double,
+// gathered version). Float is ample: coordinates are within r of the centre
+// and λ is a few percent of r.
+struct Points {
+  std::vector<float> x, y, z;
+  std::vector<std::uint32_t> id;  // position in R_i
+  std::size_t size() const { return x.size(); }
+  void clear() {
+    x.clear();
+    y.clear();
+    z.clear();
+    id.clear();
+  }
+  void push(float px, float py, float pz, std::uint32_t t) {
+    x.push_back(px);
+    y.push_back(py);
+    z.push_back(pz);
+    id.push_back(t);
+  }
+};
+
 struct Plane {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   double offset = 0.0;  // plane: normal . q = offset
-  double distance(const Eigen::Vector3d& q) const { return std::abs(normal.dot(q) - offset); }
+  float nx = 0, ny = 0, nz = 0, d = 0;
+  void set(const Eigen::Vector3d& n, double o) {
+    normal = n;
+    offset = o;
+    nx = static_cast<float>(n.x());
+    ny = static_cast<float>(n.y());
+    nz = static_cast<float>(n.z());
+    d = static_cast<float>(o);
+  }
+  // The one inlier test, used for fitting and for the final counts alike.
+  bool fits(float px, float py, float pz, float lambda) const {
+    return std::abs(nx * px + ny * py + nz * pz - d) < lambda;
+  }
 };
+
+// Inliers of `plane` among S. RANSAC only needs to know whether a plane beats
+// the best so far: once the count cannot exceed `beat` even if every
+// remaining point fits, it stops and returns a count <= beat.
+std::size_t count_inliers(const Points& S, const Plane& plane, float lambda, std::size_t beat) {
+  const std::size_t n = S.size();
+  const float* x = S.x.data();
+  const float* y = S.y.data();
+  const float* z = S.z.data();
+  const float nx = plane.nx, ny = plane.ny, nz = plane.nz, d = plane.d;
+  std::size_t count = 0;
+  constexpr std::size_t kChunk = 64;
+  for (std::size_t lo = 0; lo < n; lo += kChunk) {
+    const std::size_t hi = std::min(n, lo + kChunk);
+    std::uint32_t c = 0;
+    for (std::size_t t = lo; t < hi; ++t)
+      c += std::abs(nx * x[t] + ny * y[t] + nz * z[t] - d) < lambda;
+    count += c;
+    if (count + (n - hi) <= beat) return count;
+  }
+  return count;
+}
 
 // RANSAC tries needed to draw an all-inlier triple with the given confidence
 // when a fraction w of the points are inliers.
@@ -26,48 +83,41 @@ double tries_needed(double w, double confidence) {
   return std::log(1.0 - confidence) / std::log(1.0 - all_in);
 }
 
-// RANSAC with adaptive termination over the points Q[subset], then an
-// optional least-squares refit to the inliers. count is 0 when no
-// non-degenerate triple was found.
+// RANSAC with adaptive termination over S, then an optional least-squares
+// refit to the inliers. count is 0 when no non-degenerate triple was found.
 struct PlaneFit {
   Plane plane;
   std::size_t count = 0;
   int tries = 0;
 };
 
-Plane least_squares_plane(const std::vector<Eigen::Vector3d>& Q,
-                          const std::vector<std::uint32_t>& subset, const Plane& plane,
-                          double lambda, std::size_t count, bool* ok) {
+bool least_squares_plane(const Points& S, const Plane& plane, float lambda, std::size_t count,
+                         Plane* refined) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const std::uint32_t t : subset)
-    if (plane.distance(Q[t]) < lambda) mean += Q[t];
+  for (std::size_t t = 0; t < S.size(); ++t)
+    if (plane.fits(S.x[t], S.y[t], S.z[t], lambda)) mean += Eigen::Vector3d(S.x[t], S.y[t], S.z[t]);
   mean /= static_cast<double>(count);
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const std::uint32_t t : subset)
-    if (plane.distance(Q[t]) < lambda) cov.noalias() += (Q[t] - mean) * (Q[t] - mean).transpose();
+  for (std::size_t t = 0; t < S.size(); ++t)
+    if (plane.fits(S.x[t], S.y[t], S.z[t], lambda)) {
+      const Eigen::Vector3d q = Eigen::Vector3d(S.x[t], S.y[t], S.z[t]) - mean;
+      cov.noalias() += q * q.transpose();
+    }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  Plane refined;
-  refined.normal = eig.eigenvectors().col(0);
-  refined.offset = refined.normal.dot(mean);
-  *ok = eig.eigenvalues()(1) > 0.0;
-  return refined;
+  refined->set(eig.eigenvectors().col(0), eig.eigenvectors().col(0).dot(mean));
+  return eig.eigenvalues()(1) > 0.0;
 }
 
 // min_count: a plane with fewer inliers is of no use to the caller, so once
 // enough tries have been made to find such a plane at the chosen confidence,
 // RANSAC gives up (the further planes of curved texture would otherwise run
 // to the cap).
-PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std::uint32_t>& subset,
-                   double extent_sq, const DetectTextureParams& params, SplitMix64& rng,
-                   double min_count) {
-  const std::uint32_t k = static_cast<std::uint32_t>(subset.size());
+PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams& params,
+                   float lambda, SplitMix64& rng, double min_count) {
+  const std::uint32_t k = static_cast<std::uint32_t>(S.size());
   // A triple whose cross product is this small is collinear for our purposes.
   const double min_cross = 1e-12 * extent_sq;
-  auto count_in = [&](const Plane& plane) {
-    std::size_t c = 0;
-    for (const std::uint32_t t : subset) c += plane.distance(Q[t]) < params.lambda;
-    return c;
-  };
+  auto point = [&](std::uint32_t t) { return Eigen::Vector3d(S.x[t], S.y[t], S.z[t]); };
   PlaneFit fit;
   double needed = std::min<double>(
       params.max_iterations,
@@ -81,14 +131,13 @@ PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std:
     const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
     c += (c >= lo);
     c += (c >= hi);
-    const Eigen::Vector3d& qa = Q[subset[a]];
-    const Eigen::Vector3d cross = (Q[subset[b]] - qa).cross(Q[subset[c]] - qa);
+    const Eigen::Vector3d qa = point(a);
+    const Eigen::Vector3d cross = (point(b) - qa).cross(point(c) - qa);
     const double norm = cross.norm();
     if (norm <= min_cross) continue;
     Plane plane;
-    plane.normal = cross / norm;
-    plane.offset = plane.normal.dot(qa);
-    const std::size_t count = count_in(plane);
+    plane.set(cross / norm, (cross / norm).dot(qa));
+    const std::size_t count = count_inliers(S, plane, lambda, fit.count);
     if (count > fit.count) {
       fit.count = count;
       fit.plane = plane;
@@ -96,10 +145,9 @@ PlaneFit fit_plane(const std::vector<Eigen::Vector3d>& Q, const std::vector<std:
     }
   }
   if (params.refine && fit.count >= 3) {
-    bool ok = false;
-    const Plane refined = least_squares_plane(Q, subset, fit.plane, params.lambda, fit.count, &ok);
-    if (ok) {
-      const std::size_t count = count_in(refined);
+    Plane refined;
+    if (least_squares_plane(S, fit.plane, lambda, fit.count, &refined)) {
+      const std::size_t count = count_inliers(S, refined, lambda, fit.count - 1);
       if (count >= fit.count) {
         fit.plane = refined;
         fit.count = count;
@@ -150,12 +198,12 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   double total_tries = 0.0;
   ProgressCounter counter(progress, n);
   const double cos_second_angle = std::cos(params.second_plane_angle_deg * M_PI / 180.0);
+  const float lambda = static_cast<float>(params.lambda);
 
 #pragma omp parallel reduction(+ : no_plane, total_tries)
   {
-    std::vector<Eigen::Vector3d> Q;     // neighbors, relative to p_i
-    std::vector<std::uint32_t> subset;  // candidates of the plane being fitted
-    std::vector<std::uint8_t> inlier;   // per neighbor: fits one of the planes
+    Points all, rest;                  // R_i; the points no plane has taken yet
+    std::vector<std::uint8_t> inlier;  // per neighbor: fits one of the planes
 #pragma omp for schedule(dynamic, 256)
     for (std::size_t i = 0; i < n; ++i) {
       if ((i & 1023) == 1023) counter.advance(1024);
@@ -165,27 +213,28 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         ++no_plane;
         continue;
       }
-      const Eigen::Vector3d center = P.row(i).transpose();
-      Q.resize(k);
+      all.clear();
       double extent_sq = 0.0;
       for (std::uint32_t t = 0; t < k; ++t) {
-        Q[t] = P.row(nb[t]).transpose() - center;
-        extent_sq = std::max(extent_sq, Q[t].squaredNorm());
+        const std::uint32_t j = nb[t];
+        const float qx = static_cast<float>(P(j, 0) - P(i, 0));
+        const float qy = static_cast<float>(P(j, 1) - P(i, 1));
+        const float qz = static_cast<float>(P(j, 2) - P(i, 2));
+        all.push(qx, qy, qz, t);
+        extent_sq = std::max<double>(extent_sq, qx * qx + qy * qy + qz * qz);
       }
       SplitMix64 rng(params.seed, i);
-      subset.resize(k);
-      for (std::uint32_t t = 0; t < k; ++t) subset[t] = t;
-      const PlaneFit first = fit_plane(Q, subset, extent_sq, params, rng, 3.0);
+      const PlaneFit first = fit_plane(all, extent_sq, params, lambda, rng, 3.0);
       total_tries += first.tries;
       if (first.count == 0) {
         ++no_plane;
         continue;
       }
       inlier.assign(k, 0);
-      subset.clear();
+      rest.clear();
       for (std::uint32_t t = 0; t < k; ++t) {
-        inlier[t] = first.plane.distance(Q[t]) < params.lambda;
-        if (!inlier[t]) subset.push_back(t);
+        inlier[t] = first.plane.fits(all.x[t], all.y[t], all.z[t], lambda);
+        if (!inlier[t]) rest.push(all.x[t], all.y[t], all.z[t], t);
       }
       // Further planes at an angle to every earlier one, each with a real
       // share of the neighborhood, are the other faces of a crease or corner:
@@ -193,8 +242,8 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
       const double min_share = params.second_plane_share * k;
       Eigen::Vector3d normals_found[3] = {first.plane.normal};
       for (int plane = 1; plane < params.planes; ++plane) {
-        if (subset.size() < std::max(3.0, min_share)) break;
-        const PlaneFit next = fit_plane(Q, subset, extent_sq, params, rng, min_share);
+        if (rest.size() < std::max(3.0, min_share)) break;
+        const PlaneFit next = fit_plane(rest, extent_sq, params, lambda, rng, min_share);
         total_tries += next.tries;
         bool at_angle = next.count >= min_share;
         for (int e = 0; e < plane && at_angle; ++e)
@@ -202,11 +251,21 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         if (!at_angle) break;
         normals_found[plane] = next.plane.normal;
         std::size_t kept = 0;
-        for (const std::uint32_t t : subset) {
-          inlier[t] = next.plane.distance(Q[t]) < params.lambda;
-          if (!inlier[t]) subset[kept++] = t;
+        for (std::size_t s = 0; s < rest.size(); ++s) {
+          const bool fits = next.plane.fits(rest.x[s], rest.y[s], rest.z[s], lambda);
+          inlier[rest.id[s]] = fits;
+          if (!fits) {
+            rest.x[kept] = rest.x[s];
+            rest.y[kept] = rest.y[s];
+            rest.z[kept] = rest.z[s];
+            rest.id[kept] = rest.id[s];
+            ++kept;
+          }
         }
-        subset.resize(kept);
+        rest.x.resize(kept);
+        rest.y.resize(kept);
+        rest.z.resize(kept);
+        rest.id.resize(kept);
       }
       for (std::uint32_t t = 0; t < k; ++t) {
         const std::uint32_t j = nb[t];
