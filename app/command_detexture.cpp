@@ -239,6 +239,10 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
       ->capture_default_str();
+  app.add_option("--update-tolerance", params.update.tolerance,
+                 "Position update: stop once the residual is below this fraction of where it "
+                 "started (global), or a point moves less than this times σp (local modes)")
+      ->capture_default_str();
   add_length(app, "--solve-radius", params.solve_radius,
              "Global update: neighbors closer than this take part in the solve");
   app.add_option("--max-neighbors", params.max_neighbors,

@@ -63,7 +63,7 @@ struct UpdatePositionsParams {
   /// Convergence tolerance, > 0. Local modes: a point stops when its move in
   /// an iteration is below tolerance·σp. Global: conjugate gradients stop when
   /// the residual is below tolerance times the right-hand side (2-norms).
-  double tolerance = 1e-4;
+  double tolerance = 1e-3;
 };
 
 struct UpdatePositionsResult {
