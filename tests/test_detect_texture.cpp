@@ -52,6 +52,29 @@ TEST(DetectTexture, InlierCountsFollowEq2) {
   }
 }
 
+// Symmetric neighborhoods gather T_j and N_j over R_j; others scatter from
+// every R_i. Both must count the same pairs, planes at creases included.
+TEST(DetectTexture, GatherAndScatterCountTheSame) {
+  const auto s = test::bumpy_plane(81, 0.03, 0.02);
+  Positions P = s.P;
+  for (int i = 0; i < P.rows(); ++i)  // fold the sheet into a crease along x = 0.5
+    if (P(i, 0) > 0.5) P(i, 2) += 0.6 * (P(i, 0) - 0.5);
+  Neighborhoods R = radius_neighborhoods(P, {0.07, 0});
+  ASSERT_TRUE(R.symmetric);
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  const TextureDetection gathered = detect_texture(P, R, params);
+  R.symmetric = false;
+  const TextureDetection scattered = detect_texture(P, R, params);
+  EXPECT_EQ(gathered.inliers, scattered.inliers);
+  EXPECT_EQ(gathered.members, scattered.members);
+  EXPECT_EQ(gathered.is_texture, scattered.is_texture);
+  EXPECT_GT(gathered.texture_points, 20u);
+  // A cap that cuts rows makes the neighborhoods one-sided.
+  EXPECT_FALSE(radius_neighborhoods(P, {0.07, 10}).symmetric);
+  EXPECT_TRUE(radius_neighborhoods(P, {0.07, 100000}).symmetric);
+}
+
 TEST(DetectTexture, IdenticalForAnyThreadCount) {
   const auto s = test::bumpy_plane(81, 0.03, 0.03);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.05, 0});

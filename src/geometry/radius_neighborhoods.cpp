@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -122,13 +123,20 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
   const PointIndex index(P);
   const std::size_t cap = params.max_neighbors > 0 ? static_cast<std::size_t>(params.max_neighbors)
                                                    : std::numeric_limits<std::size_t>::max();
-  return build(n, progress,
-               [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found,
-                   std::vector<std::uint32_t>& out) {
-                 const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
-                 index.within(q, params.radius, found);
-                 append_sorted(found, cap, out);
-               });
+  std::atomic<bool> capped{false};
+  Neighborhoods result =
+      build(n, progress,
+            [&](std::size_t i, std::vector<std::pair<std::uint32_t, double>>& found,
+                std::vector<std::uint32_t>& out) {
+              const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+              index.within(q, params.radius, found);
+              if (found.size() > cap) capped.store(true, std::memory_order_relaxed);
+              append_sorted(found, cap, out);
+            });
+  // The distance test is symmetric (the same sum of the same squares), so
+  // only a cap can make it one-sided.
+  result.symmetric = !capped.load();
+  return result;
 }
 
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress) {

@@ -17,6 +17,9 @@ namespace detexture {
 struct Neighborhoods {
   std::vector<std::uint64_t> offsets;  ///< #P+1
   std::vector<std::uint32_t> indices;  ///< offsets.back()
+  /// True when j ∈ R_i exactly if i ∈ R_j (radius search with no row cut by
+  /// a cap): stages may then gather over R_j what R_i would scatter to j.
+  bool symmetric = false;
 
   std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   std::size_t count(std::size_t i) const { return offsets[i + 1] - offsets[i]; }
