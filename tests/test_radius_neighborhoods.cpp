@@ -78,6 +78,19 @@ TEST(RadiusNeighborhoods, TiesOrderedByIndex) {
   }
 }
 
+// Cutting R at a smaller radius gives the neighborhoods of that radius.
+TEST(RadiusNeighborhoods, ShrinkKeepsTheInnerPrefix) {
+  const Positions P = random_cloud(4000, 5);
+  Neighborhoods R = radius_neighborhoods(P, {0.2, 0});
+  const Neighborhoods inner = radius_neighborhoods(P, {0.1, 0});
+  shrink_neighborhoods(R, P, 0.1);
+  EXPECT_EQ(R.offsets, inner.offsets);
+  EXPECT_EQ(R.indices, inner.indices);
+  EXPECT_TRUE(R.symmetric);
+  EXPECT_THROW(shrink_neighborhoods(R, P, -1.0), std::invalid_argument);
+  EXPECT_THROW(shrink_neighborhoods(R, random_cloud(10, 1), 0.1), std::invalid_argument);
+}
+
 TEST(RadiusNeighborhoods, IdenticalForAnyThreadCount) {
   const Positions P = random_cloud(20000, 3);
   omp_set_num_threads(1);

@@ -11,6 +11,11 @@
 #include <string>
 #include <utility>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 #include "detexture/geometry/point_index.h"
 #include "progress_counter.h"
 
@@ -154,6 +159,46 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
   // only a cap can make it one-sided.
   result.symmetric = !capped.load();
   return result;
+}
+
+namespace {
+
+// Returns the whole pages between size() and capacity() to the system. The
+// vector keeps its capacity (the pages come back zeroed if it ever grows), so
+// no second copy is ever held, as shrink_to_fit would need for a moment.
+void release_unused_capacity(std::vector<std::uint32_t>& v) {
+#if defined(__linux__)
+  const std::uintptr_t page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t first = reinterpret_cast<std::uintptr_t>(v.data() + v.size());
+  const std::uintptr_t last = reinterpret_cast<std::uintptr_t>(v.data() + v.capacity());
+  const std::uintptr_t begin = (first + page - 1) / page * page, end = last / page * page;
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+#else
+  v.shrink_to_fit();
+#endif
+}
+
+}  // namespace
+
+void shrink_neighborhoods(Neighborhoods& R, const Positions& P, double radius) {
+  if (!(radius >= 0.0)) throw std::invalid_argument("shrink_neighborhoods: negative radius");
+  const std::size_t n = R.size();
+  if (static_cast<std::size_t>(P.rows()) != n)
+    throw std::invalid_argument("shrink_neighborhoods: positions and neighborhoods differ in size");
+  const double radius_sq = radius * radius;
+  std::uint64_t write = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t begin = R.offsets[i], end = R.offsets[i + 1];
+    R.offsets[i] = write;
+    for (std::uint64_t e = begin; e < end; ++e) {
+      const std::uint32_t j = R.indices[e];
+      if ((P.row(j) - P.row(i)).squaredNorm() > radius_sq) break;
+      R.indices[write++] = j;
+    }
+  }
+  R.offsets[n] = write;
+  R.indices.resize(write);
+  release_unused_capacity(R.indices);
 }
 
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress) {

@@ -23,7 +23,7 @@ void validate(const FilterNormalsRollingParams& p) {
 }
 
 RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,
-                                           const Normals& initial, const Neighborhoods& R,
+                                           Normals initial, const Neighborhoods& R,
                                            const std::vector<std::uint8_t>& is_texture,
                                            const FilterNormalsRollingParams& params,
                                            const ProgressFn& progress) {
@@ -37,8 +37,10 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
   const double inv_two_chord_sq = 1.0 / (2.0 * chord * chord);
 
   RollingFilterResult out;
-  out.normals = initial;
-  Normals next(static_cast<Eigen::Index>(n), 3);
+  out.normals = std::move(initial);
+  // Eq. 3 reads its neighbors' guidance and input normals, and N^k only at
+  // i itself, so N^{k+1} is written over N^k in place: one array less at the
+  // method's peak memory.
   const double* p = P.data();
   const double* nin = input.data();
   const std::uint8_t* texture = sub ? is_texture.data() : nullptr;
@@ -71,13 +73,12 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
         }
       }
       const double norm = std::sqrt(sx * sx + sy * sy + sz * sz);
-      if (norm > 1e-12)
-        next.row(i) << sx / norm, sy / norm, sz / norm;
-      else
-        next.row(i) = out.normals.row(i);
-      change += std::acos(std::clamp(next.row(i).dot(out.normals.row(i)), -1.0, 1.0));
+      if (norm > 1e-12) {
+        const Eigen::RowVector3d next(sx / norm, sy / norm, sz / norm);
+        change += std::acos(std::clamp(next.dot(out.normals.row(i)), -1.0, 1.0));
+        out.normals.row(i) = next;
+      }
     }
-    out.normals.swap(next);
     out.iterations = k + 1;
     out.last_change_deg = n ? change / static_cast<double>(n) * 180.0 / M_PI : 0.0;
     if (progress) progress(static_cast<double>(k + 1) / params.iterations);

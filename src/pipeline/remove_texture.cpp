@@ -109,7 +109,7 @@ void warn(const PipelineObserver& observer, const std::string& message) {
 namespace {
 
 // The method on points already in spatial order (see remove_texture).
-RemoveTextureResult remove_texture_ordered(const Positions& P, const Normals& normals,
+RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                                            const RemoveTextureParams& params,
                                            const PipelineObserver& observer,
                                            RemoveTextureResult result) {
@@ -160,7 +160,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, const Normals& no
       const Neighborhoods K = knn_neighborhoods(P, params.normal_neighbors);
       result.input_normals = reestimate_zero_normals(P, normals, K, &rep.normals_reestimated);
     } else {
-      result.input_normals = normals;
+      result.input_normals = std::move(normals);
     }
   }
   rep.normals_degenerate = 0;
@@ -202,7 +202,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, const Normals& no
     StageClock clock(observer, rep, "rolling filter");
     FilterNormalsRollingParams rp = params.rolling;
     rp.sigma_s = rep.sigma_s;
-    RollingFilterResult r = filter_normals_rolling(P, result.input_normals, filtered, R,
+    RollingFilterResult r = filter_normals_rolling(P, result.input_normals, std::move(filtered), R,
                                                    result.is_texture, rp, clock.progress());
     rep.rolling_iterations = r.iterations;
     filtered = std::move(r.normals);
@@ -212,6 +212,11 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, const Normals& no
     UpdatePositionsParams up = params.update;
     up.sigma_p = rep.sigma_p;
     up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
+    // The global solve reads only the part of R_i within the solve radius:
+    // keep that part alone, so the solve's coefficients take the place of the
+    // rest instead of adding to the peak memory.
+    if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
+      shrink_neighborhoods(R, P, up.solve_radius);
     UpdatePositionsResult u =
         update_positions(P, filtered, R, result.is_texture, up, clock.progress());
     rep.update_isolated = u.isolated;
@@ -236,7 +241,7 @@ std::vector<T> unpermute(const std::vector<T>& v, const std::vector<std::uint32_
 
 }  // namespace
 
-RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
+RemoveTextureResult remove_texture(const Positions& P, Normals normals,
                                    const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
   validate(params);
@@ -257,8 +262,10 @@ RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
     order = spatial_order(P);
     ordered_P = permute_rows(P, order);
     if (normals.rows() != 0) ordered_N = permute_rows(normals, order);
+    normals = Normals();  // ordered_N holds them now
   }
-  result = remove_texture_ordered(ordered_P, ordered_N, params, observer, std::move(result));
+  result =
+      remove_texture_ordered(ordered_P, std::move(ordered_N), params, observer, std::move(result));
   result.positions = unpermute_rows(result.positions, order);
   result.normals = unpermute_rows(result.normals, order);
   result.input_normals = unpermute_rows(result.input_normals, order);

@@ -44,6 +44,13 @@ struct NeighborhoodStats {
 Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoodsParams& params,
                                    const ProgressFn& progress = {});
 
+/// Cuts every row of R to its members within `radius` of the row's point (a
+/// prefix: rows are sorted by distance), in place, and gives the memory freed
+/// back to the system. Used before the position update, whose solve only
+/// needs the inner part of R_i: the index array is most of the memory.
+/// Throws std::invalid_argument for a negative radius or a size mismatch.
+void shrink_neighborhoods(Neighborhoods& R, const Positions& P, double radius);
+
 /// The k nearest neighbors of every point (self included), same layout.
 /// Used for orientation and for clouds too sparse for the chosen radius.
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress = {});

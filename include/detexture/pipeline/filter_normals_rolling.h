@@ -50,10 +50,12 @@ struct RollingFilterResult {
 };
 
 /// Eq. 3 iterated. `input` are the input normals n_j, `initial` the Gaussian
-/// result n¹; `is_texture` may be empty when use_subneighborhood is false.
+/// result n¹ (by value: pass it with std::move when it is not needed after,
+/// and its memory is reused); `is_texture` may be empty when
+/// use_subneighborhood is false.
 /// `progress` receives the fraction of the iteration budget used.
 RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,
-                                           const Normals& initial, const Neighborhoods& R,
+                                           Normals initial, const Neighborhoods& R,
                                            const std::vector<std::uint8_t>& is_texture,
                                            const FilterNormalsRollingParams& params,
                                            const ProgressFn& progress = {});

@@ -119,9 +119,12 @@ struct RemoveTextureResult {
 };
 
 /// Run the method on positions P (#P by 3) with optional input normals (#P by
-/// 3, or 0 rows to estimate them). Deterministic for any thread count.
-/// Throws std::invalid_argument on bad parameters or mismatched sizes.
-RemoveTextureResult remove_texture(const Positions& P, const Normals& normals,
+/// 3, or 0 rows to estimate them). The normals are taken by value: pass them
+/// with std::move when the caller no longer needs them, and they are freed as
+/// soon as they have been copied into spatial order (result.input_normals
+/// gives them back). Deterministic for any thread count. Throws
+/// std::invalid_argument on bad parameters or mismatched sizes.
+RemoveTextureResult remove_texture(const Positions& P, Normals normals,
                                    const RemoveTextureParams& params,
                                    const PipelineObserver& observer = {});
 
