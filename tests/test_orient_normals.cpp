@@ -1,5 +1,7 @@
 #include "detexture/geometry/orient_normals.h"
 
+#include "detexture/geometry/radius_neighborhoods.h"
+
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -245,6 +247,13 @@ TEST(OrientationInconsistency, RandomFlipsScoreTwoFTimesOneMinusF) {
   const double one_percent = orientation_inconsistency(flip_fraction(P, 0.01, 53), N);
   EXPECT_NEAR(one_percent, 0.0198, 0.003);
   EXPECT_GT(one_percent, kInconsistentOrientationThreshold);
+  // Only the nearest members of larger neighborhoods: the same expectation,
+  // and exactly the k-NN score when the rows are the k-NN rows.
+  const Normals flipped = flip_fraction(P, 0.10, 47);
+  const Neighborhoods R = radius_neighborhoods(P, {0.12, 0});
+  ASSERT_GT(neighborhood_stats(R, 0).min, 10u);
+  EXPECT_NEAR(orientation_inconsistency(flipped, R, 10), 0.18, 0.01);
+  EXPECT_EQ(orientation_inconsistency(flipped, knn_neighborhoods(P, 30), 10), ten_percent);
 }
 
 TEST(OrientationInconsistency, OrientedPcaNormalsScoreZero) {

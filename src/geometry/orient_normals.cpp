@@ -312,7 +312,8 @@ OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
   return result;
 }
 
-double orientation_inconsistency(const Normals& normals, const Neighborhoods& N) {
+double orientation_inconsistency(const Normals& normals, const Neighborhoods& N,
+                                 std::size_t nearest) {
   const std::ptrdiff_t n = normals.rows();
   check_graph(N, static_cast<std::size_t>(n), "normals");
   std::vector<double> inverse_length(n);
@@ -325,7 +326,9 @@ double orientation_inconsistency(const Normals& normals, const Neighborhoods& N)
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : comparable, opposite)
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (inverse_length[i] == 0.0) continue;
-    for (const std::uint32_t* j = N.begin(i); j != N.end(i); ++j) {
+    const std::uint32_t* end =
+        nearest > 0 && N.count(i) > nearest ? N.begin(i) + nearest : N.end(i);
+    for (const std::uint32_t* j = N.begin(i); j != end; ++j) {
       if (*j == i || inverse_length[*j] == 0.0) continue;
       const double c = normals.row(i).dot(normals.row(*j)) * inverse_length[i] * inverse_length[*j];
       if (std::abs(c) < kComparableNormalsCosine) continue;

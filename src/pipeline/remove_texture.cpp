@@ -170,7 +170,9 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     warn(observer, std::to_string(rep.normals_degenerate) +
                        " points have no usable normal (too few or collinear neighbors); they "
                        "take the filtered normal of their neighbors");
-  rep.orientation_inconsistency = orientation_inconsistency(result.input_normals, R);
+  // Over the nearest members of R_i, as many as orientation would use.
+  rep.orientation_inconsistency = orientation_inconsistency(
+      result.input_normals, R, static_cast<std::size_t>(params.normal_neighbors));
   if (have_normals && !params.reorient &&
       rep.orientation_inconsistency > kInconsistentOrientationThreshold)
     warn(observer, "the input normals look inconsistently oriented (" +
