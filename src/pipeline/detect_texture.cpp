@@ -97,18 +97,29 @@ struct PlaneFit {
   int tries = 0;
 };
 
+// One branch-free pass of sums over the inliers (in double; coordinates are
+// within r of the centre, so the moments lose nothing that matters).
 bool least_squares_plane(const Points& S, const Plane& plane, float lambda, std::size_t count,
                          Plane* refined) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (std::size_t t = 0; t < S.size(); ++t)
-    if (plane.fits(S.x[t], S.y[t], S.z[t], lambda)) mean += Eigen::Vector3d(S.x[t], S.y[t], S.z[t]);
-  mean /= static_cast<double>(count);
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (std::size_t t = 0; t < S.size(); ++t)
-    if (plane.fits(S.x[t], S.y[t], S.z[t], lambda)) {
-      const Eigen::Vector3d q = Eigen::Vector3d(S.x[t], S.y[t], S.z[t]) - mean;
-      cov.noalias() += q * q.transpose();
-    }
+  double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+  for (std::size_t t = 0; t < S.size(); ++t) {
+    const double w = plane.fits(S.x[t], S.y[t], S.z[t], lambda) ? 1.0 : 0.0;
+    const double x = w * S.x[t], y = w * S.y[t], z = w * S.z[t];
+    sx += x;
+    sy += y;
+    sz += z;
+    sxx += x * x;
+    sxy += x * y;
+    sxz += x * z;
+    syy += y * y;
+    syz += y * z;
+    szz += z * z;
+  }
+  const double inv = 1.0 / static_cast<double>(count);
+  const Eigen::Vector3d mean(sx * inv, sy * inv, sz * inv);
+  Eigen::Matrix3d cov;
+  cov << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+  cov = cov * inv - mean * mean.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
   refined->set(eig.eigenvectors().col(0), eig.eigenvectors().col(0).dot(mean));
   return eig.eigenvalues()(1) > 0.0;
