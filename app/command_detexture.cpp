@@ -230,6 +230,20 @@ int run_detexture(int argc, char** argv) {
   app.add_flag("--no-subneighborhood", no_subneighborhood,
                "Filter over all of R_i instead of the sub-neighborhood Ω_i (plain Gaussian, "
                "Fig. 4 ablation); also in Eq. 3");
+  std::map<std::string, SubneighborhoodMode> omega_modes{{"hard", SubneighborhoodMode::Hard},
+                                                         {"soft", SubneighborhoodMode::Soft}};
+  app.add_option("--subneighborhood", params.texture.subneighborhood,
+                 "Ω_i in Eqs. 1 and 3: hard (the paper: surface points only) or soft (ours: "
+                 "weighted by the share of neighborhoods in which a point fits the plane; "
+                 "better on dense texture covering the whole surface, such as scales or "
+                 "knurls; worse on grooves)")
+      ->transform(CLI::CheckedTransformer(omega_modes, CLI::ignore_case).description(""))
+      ->type_name("MODE")
+      ->default_str(name_of(omega_modes, params.texture.subneighborhood));
+  app.add_option("--soft-floor", params.texture.soft_floor,
+                 "Soft sub-neighborhood: a point fitting the plane in at most this share of its "
+                 "neighborhoods weighs nothing; at δ or more it weighs fully")
+      ->capture_default_str();
   bool paper_rolling_neighborhood = false;
   app.add_flag("--paper-rolling-neighborhood", paper_rolling_neighborhood,
                "Sum Eq. 3 over R_i as printed in the paper, instead of Ω_i");

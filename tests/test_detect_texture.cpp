@@ -113,6 +113,36 @@ TEST(DetectTexture, RejectsBadParameters) {
   params.delta = 0.8;
   params.max_iterations = 0;
   EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+  params.max_iterations = 100;
+  params.soft_floor = 0.8;  // must stay below delta
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+  params.soft_floor = -0.1;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+}
+
+// Ω weights: hard is 1 - label; soft ramps from 0 at soft_floor to 1 at δ in
+// the vote share T/N, and the labels (Eq. 2) do not change.
+TEST(DetectTexture, OmegaWeightsFollowTheVotes) {
+  auto s = test::bumpy_plane(61, 0.03, 0.02);
+  for (int i = 0; i < s.P.rows(); ++i)  // a ripple, so that some votes fall in between
+    s.P(i, 2) += 0.002 * std::sin(40.0 * s.P(i, 0));
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  const TextureDetection hard = detect_texture(s.P, R, params);
+  EXPECT_EQ(hard.omega, hard_omega(hard.is_texture));
+  params.subneighborhood = SubneighborhoodMode::Soft;
+  params.soft_floor = 0.3;
+  const TextureDetection soft = detect_texture(s.P, R, params);
+  EXPECT_EQ(soft.is_texture, hard.is_texture);
+  std::size_t partial = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double share = static_cast<double>(soft.inliers[i]) / soft.members[i];
+    const double expect = std::clamp((share - 0.3) / (0.8 - 0.3), 0.0, 1.0);
+    EXPECT_NEAR(soft.omega[i], expect, 1e-6) << "point " << i;
+    partial += soft.omega[i] > 0.0f && soft.omega[i] < 1.0f;
+  }
+  EXPECT_GT(partial, 0u) << "the bump's flank has votes in between";
 }
 
 }  // namespace

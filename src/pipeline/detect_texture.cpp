@@ -1,6 +1,7 @@
 #include "detexture/pipeline/detect_texture.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -176,6 +177,12 @@ PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams&
 
 }  // namespace
 
+std::vector<float> hard_omega(const std::vector<std::uint8_t>& is_texture) {
+  std::vector<float> omega(is_texture.size());
+  for (std::size_t i = 0; i < is_texture.size(); ++i) omega[i] = is_texture[i] ? 0.0f : 1.0f;
+  return omega;
+}
+
 void validate(const DetectTextureParams& p) {
   if (!(p.lambda > 0.0) || !std::isfinite(p.lambda))
     throw std::invalid_argument("lambda (RANSAC distance threshold) must be positive, got " +
@@ -195,6 +202,9 @@ void validate(const DetectTextureParams& p) {
   if (!(p.second_plane_angle_deg > 0.0 && p.second_plane_angle_deg <= 90.0))
     throw std::invalid_argument("the second plane's angle must lie in (0, 90] degrees, got " +
                                 number_text(p.second_plane_angle_deg));
+  if (!(p.soft_floor >= 0.0 && p.soft_floor < p.delta))
+    throw std::invalid_argument("the soft sub-neighborhood floor must lie in [0, delta), got " +
+                                number_text(p.soft_floor));
   if (p.max_iterations < 1)
     throw std::invalid_argument("the RANSAC iteration cap must be at least 1, got " +
                                 number_text(p.max_iterations));
@@ -338,12 +348,22 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   counter.advance(n);
 
   out.is_texture.assign(n, 0);
+  out.omega.assign(n, 1.0f);
+  const bool soft = params.subneighborhood == SubneighborhoodMode::Soft;
   for (std::size_t i = 0; i < n; ++i) {
     // Eq. 2: underlying surface iff T_i > δ·N_i. A point that no plane
     // judged (N_i = 0) is left as underlying surface: nothing marks it texture.
     const bool texture = N[i] > 0 && !(T[i] > params.delta * N[i]);
     out.is_texture[i] = texture;
     out.texture_points += texture;
+    if (N[i] == 0) continue;
+    if (soft) {
+      const double share = static_cast<double>(T[i]) / N[i];
+      out.omega[i] = static_cast<float>(
+          std::clamp((share - params.soft_floor) / (params.delta - params.soft_floor), 0.0, 1.0));
+    } else {
+      out.omega[i] = texture ? 0.0f : 1.0f;
+    }
   }
   out.no_plane = no_plane;
   out.mean_iterations = n ? total_tries / static_cast<double>(n) : 0.0;

@@ -14,12 +14,12 @@ void validate(const FilterNormalsGaussianParams& p) {
 
 GaussianFilterResult filter_normals_gaussian(const Positions& P, const Normals& normals,
                                              const Neighborhoods& R,
-                                             const std::vector<std::uint8_t>& is_texture,
+                                             const std::vector<float>& omega,
                                              const FilterNormalsGaussianParams& params) {
   validate(params);
   const std::size_t n = R.size();
-  if (params.use_subneighborhood && is_texture.size() != n)
-    throw std::invalid_argument("filter_normals_gaussian: texture labels missing");
+  if (params.use_subneighborhood && omega.size() != n)
+    throw std::invalid_argument("filter_normals_gaussian: sub-neighborhood weights missing");
   const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma_s * params.sigma_s);
   GaussianFilterResult out;
   out.normals.resize(static_cast<Eigen::Index>(n), 3);
@@ -36,9 +36,10 @@ GaussianFilterResult filter_normals_gaussian(const Positions& P, const Normals& 
     };
     if (params.use_subneighborhood) {
       for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
-        if (is_texture[*j]) continue;
+        const double o = omega[*j];
+        if (!(o > 0.0)) continue;
         any = true;
-        sum += weight(*j) * normals.row(*j);
+        sum += o * weight(*j) * normals.row(*j);
       }
       empty += !any;
     }

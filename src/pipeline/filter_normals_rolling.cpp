@@ -24,14 +24,14 @@ void validate(const FilterNormalsRollingParams& p) {
 
 RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,
                                            Normals initial, const Neighborhoods& R,
-                                           const std::vector<std::uint8_t>& is_texture,
+                                           const std::vector<float>& omega,
                                            const FilterNormalsRollingParams& params,
                                            const ProgressFn& progress) {
   validate(params);
   const std::size_t n = R.size();
   const bool sub = params.use_subneighborhood;
-  if (sub && is_texture.size() != n)
-    throw std::invalid_argument("filter_normals_rolling: texture labels missing");
+  if (sub && omega.size() != n)
+    throw std::invalid_argument("filter_normals_rolling: sub-neighborhood weights missing");
   const double inv_two_sigma_s_sq = 1.0 / (2.0 * params.sigma_s * params.sigma_s);
   const double chord = 2.0 * std::sin(params.sigma_r_deg * M_PI / 360.0);
   const double inv_two_chord_sq = 1.0 / (2.0 * chord * chord);
@@ -43,7 +43,7 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
   // method's peak memory.
   const double* p = P.data();
   const double* nin = input.data();
-  const std::uint8_t* texture = sub ? is_texture.data() : nullptr;
+  const float* member = sub ? omega.data() : nullptr;
   for (int k = 0; k < params.iterations; ++k) {
     const Normals G = guidance_normals(P, out.normals, R, params.guidance);
     const double* g = G.data();
@@ -55,17 +55,18 @@ RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& in
       double sx = 0.0, sy = 0.0, sz = 0.0;
       bool any = false;
       // Pass 0 sums over Ω_i; pass 1, over R_i (the paper, or an empty Ω_i).
-      for (int pass = texture ? 0 : 1; pass < 2 && !any; ++pass) {
+      for (int pass = member ? 0 : 1; pass < 2 && !any; ++pass) {
         for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
           const std::size_t j = *it;
-          if (pass == 0 && texture[j]) continue;
+          const double o = pass == 0 ? member[j] : 1.0;
+          if (!(o > 0.0)) continue;
           const double dx = p[3 * j] - px, dy = p[3 * j + 1] - py, dz = p[3 * j + 2] - pz;
           const double ex = g[3 * j] - gx, ey = g[3 * j + 1] - gy, ez = g[3 * j + 2] - gz;
           // Single-precision exp: the weight needs no more, and it is the
           // costliest operation of the method (one per pair and iteration).
           const double w =
-              std::exp(static_cast<float>(-(dx * dx + dy * dy + dz * dz) * inv_two_sigma_s_sq -
-                                          (ex * ex + ey * ey + ez * ez) * inv_two_chord_sq));
+              o * std::exp(static_cast<float>(-(dx * dx + dy * dy + dz * dz) * inv_two_sigma_s_sq -
+                                              (ex * ex + ey * ey + ez * ez) * inv_two_chord_sq));
           sx += w * nin[3 * j];
           sy += w * nin[3 * j + 1];
           sz += w * nin[3 * j + 2];

@@ -179,12 +179,14 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                        std::to_string(100.0 * rep.orientation_inconsistency) +
                        "% of neighbor pairs disagree); consider --reorient");
 
+  std::vector<float> omega;  // membership of Ω, for the filters
   {
     StageClock clock(observer, rep, "detect texture");
     DetectTextureParams tp = params.texture;
     tp.lambda = rep.lambda;
     TextureDetection det = detect_texture(P, R, tp, clock.progress());
     result.is_texture = std::move(det.is_texture);
+    omega = std::move(det.omega);
     rep.texture_points = det.texture_points;
     rep.no_plane = det.no_plane;
     rep.ransac_mean_iterations = det.mean_iterations;
@@ -195,8 +197,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     StageClock clock(observer, rep, "gaussian filter");
     FilterNormalsGaussianParams gp = params.gaussian;
     gp.sigma_s = rep.sigma_s;
-    GaussianFilterResult g =
-        filter_normals_gaussian(P, result.input_normals, R, result.is_texture, gp);
+    GaussianFilterResult g = filter_normals_gaussian(P, result.input_normals, R, omega, gp);
     rep.empty_subneighborhoods = g.empty_subneighborhoods;
     filtered = std::move(g.normals);
   }
@@ -205,8 +206,9 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     FilterNormalsRollingParams rp = params.rolling;
     rp.sigma_s = rep.sigma_s;
     RollingFilterResult r = filter_normals_rolling(P, result.input_normals, std::move(filtered), R,
-                                                   result.is_texture, rp, clock.progress());
+                                                   omega, rp, clock.progress());
     rep.rolling_iterations = r.iterations;
+    std::vector<float>().swap(omega);  // the update uses the hard labels
     filtered = std::move(r.normals);
   }
   {

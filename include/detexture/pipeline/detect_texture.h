@@ -17,6 +17,16 @@
 // the same at corners). Texture relief is
 // curved, so a plane through it finds only a thin band of support and is
 // rejected. `planes = 1` is the paper's rule.
+//
+// Ω_i as weights. The filters (Eqs. 1, 3) take each neighbor's membership of
+// Ω as a weight ω_j in [0, 1]. `Hard` (the paper) is 1 for underlying
+// surface and 0 for texture. `Soft` (ours, an option) ramps with the vote
+// share T_j/N_j: 0 at or below `soft_floor`, 1 at or above δ, linear between.
+// On separated features the votes are bimodal (near 0 on the feature, near 1
+// elsewhere) and both agree; on dense texture covering the whole surface
+// (scales, knurls, waves) most votes are in between, the hard rule keeps an
+// arbitrary, biased subset, and the soft one degrades towards the plain
+// Gaussian, which is better there (bench/RESULTS.md).
 #pragma once
 
 #include <cstdint>
@@ -26,6 +36,11 @@
 #include "detexture/types.h"
 
 namespace detexture {
+
+enum class SubneighborhoodMode {
+  Hard,  ///< ω = 1 for underlying surface, 0 for texture (the paper)
+  Soft,  ///< ω ramps with the vote share T/N (see above)
+};
 
 struct DetectTextureParams {
   /// λ: RANSAC distance threshold, in the cloud's units; > 0. A point farther
@@ -55,12 +70,17 @@ struct DetectTextureParams {
   bool refine = true;
   /// Seed of the per-point generators (seeded from seed and point index).
   std::uint64_t seed = 1;
+  /// How the filters weigh a neighbor's membership of Ω (see above).
+  SubneighborhoodMode subneighborhood = SubneighborhoodMode::Hard;
+  /// Soft: vote share T/N at or below which ω = 0, in [0, δ).
+  double soft_floor = 0.3;
 };
 
 struct TextureDetection {
   std::vector<std::uint8_t> is_texture;  ///< #P; 1 = texture (Eq. 2 fails), 0 = underlying surface
   std::vector<std::uint32_t> inliers;    ///< #P; T_i
   std::vector<std::uint32_t> members;    ///< #P; N_i, neighborhoods with a plane that contain i
+  std::vector<float> omega;              ///< #P; ω_i in [0, 1], membership of Ω (see above)
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;      ///< neighborhoods with fewer than 3 points or collinear
   double mean_iterations = 0.0;  ///< RANSAC tries per neighborhood
@@ -70,6 +90,9 @@ struct TextureDetection {
 /// for any thread count. Throws std::invalid_argument on out-of-range params.
 TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
                                 const DetectTextureParams& params, const ProgressFn& progress = {});
+
+/// Hard Ω weights from labels: ω = 0 for texture, 1 otherwise (#P).
+std::vector<float> hard_omega(const std::vector<std::uint8_t>& is_texture);
 
 /// Check params; throws std::invalid_argument with a sentence naming the bad one.
 void validate(const DetectTextureParams& params);

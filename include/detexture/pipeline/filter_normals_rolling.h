@@ -14,7 +14,8 @@
 //   paper's Table 2, and it needs no acos per pair.
 // - The sum runs over the sub-neighborhood Ω_i by default, like Eq. 1, so
 //   texture normals never re-enter; the paper's R_i is kept as an option
-//   (use_subneighborhood = false). Points with an empty Ω_i use R_i.
+//   (use_subneighborhood = false). Points with an empty Ω_i use R_i. Ω_i's
+//   membership weights ω_j multiply the terms, as in Eq. 1.
 // - Iterations: at most `iterations`, stopping early once the mean change of
 //   the normals between two iterations falls below `tolerance_deg`.
 #pragma once
@@ -51,12 +52,12 @@ struct RollingFilterResult {
 
 /// Eq. 3 iterated. `input` are the input normals n_j, `initial` the Gaussian
 /// result n¹ (by value: pass it with std::move when it is not needed after,
-/// and its memory is reused); `is_texture` may be empty when
+/// and its memory is reused); `omega` (#P, ω_j in [0, 1]) may be empty when
 /// use_subneighborhood is false.
 /// `progress` receives the fraction of the iteration budget used.
 RollingFilterResult filter_normals_rolling(const Positions& P, const Normals& input,
                                            Normals initial, const Neighborhoods& R,
-                                           const std::vector<std::uint8_t>& is_texture,
+                                           const std::vector<float>& omega,
                                            const FilterNormalsRollingParams& params,
                                            const ProgressFn& progress = {});
 
