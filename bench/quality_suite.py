@@ -22,6 +22,7 @@ import os
 import re
 import shlex
 import shutil
+import struct
 import subprocess
 import sys
 import time
@@ -181,6 +182,17 @@ def peer_program(build, peer):
     return path if os.access(path, os.X_OK) else None
 
 
+# MeshLab 2020.09 never computes the mean point spacing its RIMLS projection
+# multiplies PROJECTION_ACCURACY by, so the stop test never passes and every
+# point takes all MAX_PROJECTION_ITERS steps (MeshLab's default 15; the output is
+# bit-identical for accuracies 1e-4 and 1e-2). After 4 steps 99.6% of the points
+# are within 1e-6 of their 15-step position and every metric of every case is
+# within 0.08% of the 15-step one (bench/README.md, Budget), at about a third of
+# the time. Not a quality parameter: the tuned ones are in bench/peer_params.json.
+RIMLS_PROJECTION_ITERS = 4
+RIMLS_REFITTING_ITERS = 3  # MeshLab's default, written out because it comes first
+
+
 def peer_args(peer, params, case, points, threads=None):
     """Command-line arguments (after IN OUT) of a peer for relative params on a case."""
     R = case.size
@@ -196,13 +208,27 @@ def peer_args(peer, params, case, points, threads=None):
         return ["-r", fmt(c * R), "-o", str(params["order"])] + t
     if peer == "meshlab-rimls":
         scale = c * R * math.sqrt(math.pi * rho) / 2
-        return [fmt(scale), fmt(params["sigma_n"])]
+        return [fmt(scale), fmt(params["sigma_n"]), str(RIMLS_REFITTING_ITERS),
+                str(RIMLS_PROJECTION_ITERS)]
     raise ValueError(peer)
 
 
 # --------------------------------------------------------------------------
 # Running things
 # --------------------------------------------------------------------------
+
+
+# Single-thread seconds per unit of rho R^2 (which sets every method's
+# neighbourhood size) on this machine, measured; used only to start the longest
+# runs first, so they need not be exact.
+RUN_COST = {
+    "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
+    "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5,
+}
+
+
+def estimated_seconds(method, case):
+    return RUN_COST.get(method, 1.0) * case.density(POINTS) * case.size ** 2
 
 
 def fmt(x):
@@ -249,14 +275,69 @@ def detexture_seconds(stats_path):
 
 
 def synthesize(build, case, points, work):
+    """The case's cloud, in Morton order (see morton_order), and its ground truth."""
     base = os.path.join(work, case.name)
-    ply, gt = base + ".ply", base + ".gt.ply"
+    ply, gt, ordered = base + ".ply", base + ".gt.ply", base + ".morton.ply"
     if not (os.path.exists(ply) and os.path.exists(gt)):
         ok, _, msg = run([detexture_bin(build), "synth", "-o", ply] + case.synth_args(points),
                          base + ".synth.log", 300)
         if not ok:
             raise RuntimeError(f"synth failed for {case.name}: {msg}")
-    return ply, gt
+    if not os.path.exists(ordered) or os.path.getmtime(ordered) < os.path.getmtime(ply):
+        morton_order(ply, ordered)
+    return ordered, gt
+
+
+PLY_TYPES = {"char": "b", "int8": "b", "uchar": "B", "uint8": "B", "short": "h", "int16": "h",
+             "ushort": "H", "uint16": "H", "int": "i", "int32": "i", "uint": "I", "uint32": "I",
+             "float": "f", "float32": "f", "double": "d", "float64": "d"}
+
+
+def morton_order(src, dst):
+    """Write the points of src (a binary little-endian PLY of vertices only, as
+    `detexture synth` writes) to dst sorted along a Morton (Z-order) curve.
+
+    The same points, only reordered: every metric is unchanged (checked: identical
+    metrics for detexture and CGAL bilateral), but `detexture synth` emits its
+    points in random order, the worst case for the k-d trees of the peers, which,
+    unlike detexture, do not reorder their input: CGAL bilateral needs about half
+    the CPU time on the ordered cloud (bench/README.md, Budget). Every method reads
+    this same file."""
+    with open(src, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode("ascii").splitlines()
+    if "format binary_little_endian 1.0" not in header:
+        raise RuntimeError(f"{src}: expected a binary little-endian PLY")
+    elements = [l.split() for l in header if l.startswith("element ")]
+    if len(elements) != 1 or elements[0][1] != "vertex":
+        raise RuntimeError(f"{src}: expected vertices only")
+    n = int(elements[0][2])
+    offsets, size = {}, 0
+    for l in header:
+        if l.startswith("property "):
+            t, name = l.split()[1:3]
+            if t == "list" or t not in PLY_TYPES:
+                raise RuntimeError(f"{src}: unsupported property '{l}'")
+            offsets[name] = (size, "<" + PLY_TYPES[t])
+            size += struct.calcsize(PLY_TYPES[t])
+    if len(data) != end + n * size:
+        raise RuntimeError(f"{src}: size does not match its header")
+    xyz = [[struct.unpack_from(offsets[c][1], data, end + i * size + offsets[c][0])[0] for i in range(n)]
+           for c in "xyz"]
+    lo = [min(v) for v in xyz]
+    extent = max(max(v) - l for v, l in zip(xyz, lo)) or 1.0
+    spread = [0] * 1024  # bit i of a 10-bit cell index goes to bit 3i
+    for k in range(1024):
+        spread[k] = sum(((k >> b) & 1) << (3 * b) for b in range(10))
+    cell = [[min(1023, int((v[i] - l) / extent * 1024)) for i in range(n)] for v, l in zip(xyz, lo)]
+    code = [spread[cell[0][i]] | spread[cell[1][i]] << 1 | spread[cell[2][i]] << 2 for i in range(n)]
+    order = sorted(range(n), key=lambda i: (code[i], i))
+    head = header[:2] + ["comment points sorted along a Morton curve by bench/quality_suite.py"] + header[2:]
+    with open(dst + ".tmp", "wb") as f:
+        f.write(("\n".join(head) + "\n").encode("ascii"))
+        f.write(b"".join(data[end + i * size:end + (i + 1) * size] for i in order))
+    os.replace(dst + ".tmp", dst)
 
 
 def compare(build, result, gt):
@@ -490,7 +571,15 @@ def quality(args):
         elif peer not in peer_params:
             status[peer] = "no tuned parameters in bench/peer_params.json"
 
+    # Every run is single-threaded and `--jobs` (2) of them run at a time, so the
+    # machine's 2 cores stay busy even while the single-threaded MeshLab RIMLS
+    # runs; the longest runs start first (LPT), so the last ones to finish are
+    # short. Each run is measured against its ground truth as soon as it ends, in
+    # the same worker. The results do not depend on the order (every method is
+    # deterministic, and the table is assembled by case and method).
     runs = {}  # (case, method) -> {"out":..., "seconds":..., "error":...}
+    jobs = []  # (estimated single-thread seconds, case, method, cmd, output)
+    variants = dict((v[0], v[1]) for v in DETEXTURE_VARIANTS)
     for case in cases:
         ply, gt = synthesize(build, case, POINTS, work)
         runs[(case.name, "input")] = {"out": ply, "seconds": None, "error": ""}
@@ -498,45 +587,58 @@ def quality(args):
             if method in status:
                 continue
             out = os.path.join(work, f"{case.name}.{method}.ply")
-            logp = out[:-4] + ".log"
-            if method in dict((v[0], v) for v in DETEXTURE_VARIANTS):
-                extra = dict((v[0], v[1]) for v in DETEXTURE_VARIANTS)[method]
-                stats = out[:-4] + ".stats.json"
-                cmd = [detexture_bin(build), ply, "-o", out, "-f", "-q", "--stats", stats] + \
-                    detexture_rule(case) + extra
-                ok, stdout, msg = run(cmd, logp, args.timeout)
-                secs = detexture_seconds(stats) if ok else None
+            if method in variants:
+                cmd = [detexture_bin(build), ply, "-o", out, "-f", "-q", "--threads", "1",
+                       "--stats", out[:-4] + ".stats.json"] + detexture_rule(case) + variants[method]
             else:
                 cmd = [peer_program(build, method), ply, out] + \
-                    peer_args(method, peer_params[method]["params"], case, POINTS)
+                    peer_args(method, peer_params[method]["params"], case, POINTS, threads=1)
                 cached = None if args.no_cache else cached_peer_run(cmd, out)
                 if cached is not None:
                     runs[(case.name, method)] = {"out": out, "seconds": cached["seconds"], "error": "",
                                                  "cmd": cmd, "cached": cached["date"]}
                     log(f"{case.name:26s} {method:20s} {cached['seconds']:7.1f} s (cached, {cached['date']})")
                     continue
-                if os.path.exists(out):
-                    os.remove(out)
-                ok, stdout, msg = run(cmd, logp, args.timeout)
-                secs = last_seconds(stdout) if ok else None
-                if ok:
-                    store_peer_run(cmd, out, secs)
-            runs[(case.name, method)] = {"out": out, "seconds": secs, "error": msg, "cmd": cmd}
-            log(f"{case.name:26s} {method:20s} " + (f"{secs:7.1f} s" if ok else f"FAILED {msg}"))
+            jobs.append((estimated_seconds(method, case), case, method, cmd, out))
+    jobs.sort(key=lambda j: -j[0])  # longest first; stable, so ties keep the suite's order
 
-    # Metrics, after every timed run (so comparisons never overlap a timed run).
-    def one(key):
-        r = runs[key]
-        if r["error"]:
-            return key, None
+    def one(job):
+        _, case, method, cmd, out = job
+        if method not in variants and os.path.exists(out):
+            os.remove(out)
+        ok, stdout, msg = run(cmd, out[:-4] + ".log", args.timeout)
+        if method in variants:
+            secs = detexture_seconds(out[:-4] + ".stats.json") if ok else None
+        else:
+            secs = last_seconds(stdout) if ok else None
+            if ok:
+                store_peer_run(cmd, out, secs)
+        metrics = compare(build, out, os.path.join(work, case.name + ".gt.ply")) if ok else None
+        return case, method, {"out": out, "seconds": secs, "error": msg, "cmd": cmd, "metrics": metrics}
+
+    log(f"{len(jobs)} runs, {args.jobs} at a time, 1 thread each, longest first")
+    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+        futures = [pool.submit(one, job) for job in jobs]
+        for done, future in enumerate(concurrent.futures.as_completed(futures), 1):
+            case, method, r = future.result()
+            runs[(case.name, method)] = r
+            log(f"[{done:2d}/{len(jobs)}] {case.name:26s} {method:20s} "
+                + (f"{r['seconds']:7.1f} s" if not r["error"] else f"FAILED {r['error']}"))
+
+    # The inputs and the cached peer runs are measured here.
+    def measure(key):
         gt = os.path.join(work, key[0] + ".gt.ply")
-        return key, compare(build, r["out"], gt)
+        return key, compare(build, runs[key]["out"], gt)
 
-    with concurrent.futures.ThreadPoolExecutor(2) as pool:
-        for key, m in pool.map(one, list(runs)):
+    rest = [k for k, r in runs.items() if "metrics" not in r and not r["error"]]
+    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+        for key, m in pool.map(measure, rest):
             runs[key]["metrics"] = m
+    for r in runs.values():
+        r.setdefault("metrics", None)
     with open(os.path.join(work, "metrics.json"), "w") as f:
-        json.dump({f"{k[0]}/{k[1]}": v for k, v in runs.items()}, f, indent=1)
+        json.dump({f"{c.name}/{m}": runs[(c.name, m)] for c in cases for m in ["input"] + methods
+                   if (c.name, m) in runs}, f, indent=1)
     total = time.monotonic() - t_start
     log(f"benchmark done in {total:.0f} s")
     text = render(cases, methods, status, runs, peer_params, total, args)
@@ -590,7 +692,8 @@ def render(cases, methods, status, runs, peer_params, total, args):
     L.append("")
     L.append(f"Produced by `{cmd}` on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}, "
              f"{machine_description()}, detexture {git_revision()}. "
-             f"Whole run (synthesis, all methods, all comparisons): **{total / 60:.1f} min** "
+             f"Whole run (synthesis, all methods, all comparisons): **{total / 60:.1f} min**, "
+             f"{args.jobs} runs at a time with one thread each, longest first "
              f"(machine shared with other work, so times are noisy). "
              f"Suite, parameter rule and peer tuning: bench/README.md.")
     cached = sorted({r["cached"] for r in runs.values() if r.get("cached")})
@@ -606,7 +709,10 @@ def render(cases, methods, status, runs, peer_params, total, args):
              "σ (the paper's Table 3); *residual texture* = standard deviation of the signed distance "
              "(texture and noise left); normal error = mean angle to the true normal, and share within "
              "10°; coverage mean = mean distance from a ground-truth sample to the nearest result point "
-             "(holes, clustering); seconds = the method's own wall time (no I/O), default threads. "
+             "(holes, clustering); seconds = the method's own wall time (no I/O) on **one thread** "
+             f"(every method runs single-threaded, {args.jobs} runs at a time; the multi-threaded "
+             "ones are faster than this with more threads; MeshLab RIMLS stops after "
+             f"{RIMLS_PROJECTION_ITERS} projection steps per point, see bench/README.md). "
              "Best value per case among the methods in **bold** (not for Dmax, coverage, seconds).")
     L.append("")
     # Method descriptions
@@ -756,6 +862,8 @@ def main():
                    help="rerun the peers even when an identical earlier run (same program, input and "
                         "options) left its output in the work folder")
     q.add_argument("--no-results", action="store_true", help="print the Markdown instead of writing RESULTS.md")
+    q.add_argument("--jobs", type=int, default=2,
+                   help="runs at a time, 1 thread each, longest first (default 2: the machine's cores)")
     t.add_argument("--points", type=int, default=TUNE_POINTS, help=f"points per case (default {TUNE_POINTS})")
     t.add_argument("--peers", help="comma-separated subset of peers")
     t.add_argument("--jobs", type=int, default=2, help="runs at a time, 1 thread each (default 2)")
