@@ -348,12 +348,13 @@ int run_detexture(int argc, char** argv) {
       printer.note("detexture: note: " + std::to_string(read_report.zero_length_normals) +
                    " input normals have zero length; they are re-estimated");
 
-    // The normals are handed over (result.input_normals has them back), so
+    // Positions and normals are handed over and come back in the result, so
     // the pipeline can free them early: memory per point is a stated target.
     Normals normals = cloud.has_normals() ? std::move(cloud.normals) : Normals();
     cloud.normals = Normals();
     RemoveTextureResult result =
-        remove_texture(cloud.positions, std::move(normals), params, printer.observer());
+        remove_texture(std::move(cloud.positions), std::move(normals), params, printer.observer());
+    cloud.positions = std::move(result.input_positions);
 
     const auto t1 = std::chrono::steady_clock::now();
     PointCloud out = cloud;

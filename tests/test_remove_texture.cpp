@@ -115,6 +115,21 @@ TEST(RemoveTexture, IdenticalForAnyThreadCount) {
   EXPECT_TRUE(a.report.normals_estimated);
 }
 
+// Positions and normals moved in come back unchanged, in the caller's order.
+TEST(RemoveTexture, HandsTheInputBack) {
+  SynthParams sp;
+  sp.shape = BaseShape::Sphere;
+  sp.points = 5000;
+  sp.ground_truth_points = 10;
+  const SynthesizedShape s = synthesize_shape(sp);
+  Positions P = s.positions;
+  Normals N = s.normals;
+  const RemoveTextureResult r = remove_texture(std::move(P), std::move(N), params_for(0.15, 0.004));
+  EXPECT_TRUE(r.input_positions == s.positions);
+  EXPECT_TRUE(r.input_normals.isApprox(s.normals, 1e-12));
+  EXPECT_EQ(r.positions.rows(), s.positions.rows());
+}
+
 TEST(RemoveTexture, RejectsBadInput) {
   const auto s = test::bumpy_plane(11, 0.0, 0.1);
   RemoveTextureParams p = params_for(0.2, 0.01);

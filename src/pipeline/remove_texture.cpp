@@ -245,8 +245,7 @@ std::vector<T> unpermute(const std::vector<T>& v, const std::vector<std::uint32_
 
 }  // namespace
 
-RemoveTextureResult remove_texture(const Positions& P, Normals normals,
-                                   const RemoveTextureParams& params,
+RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
   validate(params);
   const std::size_t n = static_cast<std::size_t>(P.rows());
@@ -266,7 +265,8 @@ RemoveTextureResult remove_texture(const Positions& P, Normals normals,
     order = spatial_order(P);
     ordered_P = permute_rows(P, order);
     if (normals.rows() != 0) ordered_N = permute_rows(normals, order);
-    normals = Normals();  // ordered_N holds them now
+    P = Positions();  // the ordered copies hold them now
+    normals = Normals();
   }
   result =
       remove_texture_ordered(ordered_P, std::move(ordered_N), params, observer, std::move(result));
@@ -274,6 +274,7 @@ RemoveTextureResult remove_texture(const Positions& P, Normals normals,
   result.normals = unpermute_rows(result.normals, order);
   result.input_normals = unpermute_rows(result.input_normals, order);
   result.is_texture = unpermute(result.is_texture, order);
+  result.input_positions = unpermute_rows(ordered_P, order);
   Eigen::VectorXd height(static_cast<Eigen::Index>(n));
   for (std::size_t k = 0; k < n; ++k) height(order[k]) = result.texture_height(k);
   result.texture_height = std::move(height);

@@ -115,17 +115,17 @@ struct RemoveTextureResult {
   std::vector<std::uint8_t> is_texture;  ///< #P, Eq. 2
   Eigen::VectorXd texture_height;        ///< #P, (p_in - p_out)·n_out: the signed texture removed
   Normals input_normals;                 ///< #P by 3, the normals the filters started from
+  Positions input_positions;             ///< #P by 3, P as given (handed back, see below)
   RemoveTextureReport report;
 };
 
 /// Run the method on positions P (#P by 3) with optional input normals (#P by
-/// 3, or 0 rows to estimate them). The normals are taken by value: pass them
-/// with std::move when the caller no longer needs them, and they are freed as
-/// soon as they have been copied into spatial order (result.input_normals
-/// gives them back). Deterministic for any thread count. Throws
-/// std::invalid_argument on bad parameters or mismatched sizes.
-RemoveTextureResult remove_texture(const Positions& P, Normals normals,
-                                   const RemoveTextureParams& params,
+/// 3, or 0 rows to estimate them). Both are taken by value: pass them with
+/// std::move and they are freed as soon as they have been copied into spatial
+/// order, which keeps two copies out of the peak memory; result.input_positions
+/// and result.input_normals give them back. Deterministic for any thread
+/// count. Throws std::invalid_argument on bad parameters or mismatched sizes.
+RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer = {});
 
 }  // namespace detexture
