@@ -36,7 +36,7 @@ template <class MakeQuery>
 Neighborhoods build(std::size_t n, const ProgressFn& progress, const MakeQuery& make_query) {
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   const std::size_t batch =
-      std::max<std::size_t>(8, 4 * static_cast<std::size_t>(omp_get_max_threads()));
+      std::max<std::size_t>(4, 2 * static_cast<std::size_t>(omp_get_max_threads()));
   std::vector<std::vector<std::uint32_t>> block_indices(std::min(batch, blocks));
   Neighborhoods result;
   result.offsets.assign(n + 1, 0);
