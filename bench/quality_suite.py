@@ -143,6 +143,8 @@ DETEXTURE_VARIANTS = [
     ("no-subneighborhood", ["--no-subneighborhood"], "plain Gaussian over R_i (Fig. 4 ablation)"),
     ("plain-guidance", ["--guidance", "plain"], "classic rolling guidance, Zheng et al. 2018 (Fig. 7)"),
     ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
+    ("soft-subneighborhood", ["--subneighborhood", "soft"],
+     "ours, an option: Ω_i weighted by the vote share T/N (for dense texture)"),
 ]
 
 # --------------------------------------------------------------------------
@@ -223,6 +225,7 @@ def peer_args(peer, params, case, points, threads=None):
 # runs first, so they need not be exact.
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
+    "soft-subneighborhood": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5,
 }
 
