@@ -16,9 +16,10 @@ namespace {
 
 // Neighbors of one point as structure-of-arrays floats relative to the point,
 // so that counting a plane's inliers is one contiguous loop the compiler
-// vectorizes (4 per instruction with SSE2; measured 2x faster than the double,
-// gathered version). Float is ample: coordinates are within r of the centre
-// and λ is a few percent of r.
+// vectorizes (4 per instruction with SSE2; with the early exit below, the
+// stage went from 0.60 to 0.47 s on bench/speed's 150k sphere, same labels).
+// Float is ample: coordinates are within r of the centre and λ is a few
+// percent of r.
 struct Points {
   std::vector<float> x, y, z;
   std::vector<std::uint32_t> id;  // position in R_i
