@@ -17,7 +17,7 @@ namespace {
 // Neighbors of one point as structure-of-arrays floats relative to the point,
 // so that counting a plane's inliers is one contiguous loop the compiler
 // vectorizes (4 per instruction with SSE2; with the early exit below, the
-// stage went from 0.60 to 0.47 s on bench/speed's 150k sphere, same labels).
+// stage went from 0.60 to 0.47 s on bench/speed's 150k sphere, same texture count).
 // Float is ample: coordinates are within r of the centre and λ is a few
 // percent of r.
 struct Points {
