@@ -109,8 +109,8 @@ int run_render(int argc, char** argv) {
                  "diverging")
       ->capture_default_str();
   app.add_option("--point-size", params.point_size,
-                 "Point disc diameter in pixels; 0 = 2.5 times the median point spacing on "
-                 "screen")
+                 "Point disc diameter in pixels; 0 = from the point density, so that the "
+                 "discs close the surface")
       ->capture_default_str();
   app.add_option("--normal-neighbors", params.normal_neighbors,
                  "k nearest points for the normals of clouds without normals")

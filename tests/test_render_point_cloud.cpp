@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -354,6 +355,26 @@ TEST(RenderPointCloud, BadInputsAreRefusedWithASentence) {
     FAIL() << "no room";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("8 panels"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RenderPointCloud, LabelsHaveAGlyphForEveryPrintableCharacter) {
+  RenderParams p = plain_params();
+  p.labels = true;
+  RenderCloud c = square(11);
+  auto label_strip = [&](const std::string& text) {
+    c.label = text;
+    const Image image = render_point_cloud(c, p);
+    // The label line: 7 dots and 3 dots of padding above and below it.
+    return std::vector<std::uint8_t>(image.rgb.begin(), image.rgb.begin() + 3 * 200 * 13);
+  };
+  const auto unknown = label_strip("?"), blank = label_strip(" ");
+  EXPECT_NE(unknown, blank);
+  EXPECT_EQ(label_strip("\x01"), unknown) << "no glyph: drawn as '?'";
+  std::set<std::vector<std::uint8_t>> seen = {unknown, blank};
+  for (char ch = '!'; ch <= '~'; ++ch) {
+    if (ch == '?') continue;
+    EXPECT_TRUE(seen.insert(label_strip(std::string(1, ch))).second) << "'" << ch << "'";
   }
 }
 

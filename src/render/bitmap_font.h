@@ -17,8 +17,9 @@ constexpr int kGlyphWidth = 5;    ///< dots
 constexpr int kGlyphHeight = 7;   ///< dots
 constexpr int kGlyphAdvance = 6;  ///< dots from one character to the next
 
-/// The 7 rows of 5 characters ('#' = dot, '.' = none) of character c; the
-/// glyph of '?' for characters the font has no glyph for.
+/// The 7 rows of 5 characters ('#' = dot, '.' = none) of character c. Every
+/// printable ASCII character has one; others (bytes of UTF-8, control
+/// characters) get the glyph of '?'.
 const std::array<const char*, kGlyphHeight>& glyph(char c);
 
 /// Width in pixels of text drawn with dots of scale x scale pixels.
