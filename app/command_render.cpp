@@ -160,6 +160,7 @@ int run_render(int argc, char** argv) {
       std::string ext = std::filesystem::path(output).extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       if (ext != ".png") throw UsageError(output + ": the output must be a .png file");
+      validate(params);
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }

@@ -270,6 +270,22 @@ TEST(RenderPointCloud, ColorBarRunsFromMinAtTheBottomToMaxAtTheTop) {
   EXPECT_GT(ink, 20);
 }
 
+TEST(RenderPointCloud, FarFromTheOriginTheZBufferStillSortsSurfaces) {
+  // The small-above-big scene of the z-buffer test, moved 1e6 away: float
+  // depths measured from the origin would differ by less than a float's step.
+  RenderParams p = plain_params();
+  RenderCloud c = square(101);
+  const Eigen::Index n = c.positions.rows();
+  c.positions.conservativeResize(n + 1, 3);
+  c.normals.conservativeResize(n + 1, 3);
+  c.positions.row(n) << 0.5, 0.5, 0.01;  // a point 0.01 above the plane's centre
+  c.normals.row(n) << std::sin(M_PI / 3), 0, std::cos(M_PI / 3);
+  c.positions.col(2).array() += 1e6;
+  p.point_size = 8;
+  const Image image = render_point_cloud(c, p);
+  EXPECT_EQ(image.pixel(100, 100), (Rgb{125, 125, 128}));
+}
+
 TEST(RenderPointCloud, MissingNormalsAreEstimatedAndShadeAlike) {
   const RenderParams p = plain_params();
   RenderCloud without = square(61);
@@ -348,6 +364,11 @@ TEST(RenderPointCloud, BadInputsAreRefusedWithASentence) {
   q.range_min = 2;
   q.range_max = 1;
   EXPECT_THROW(render_point_cloud(square(5), q), std::invalid_argument);
+  q = p;
+  q.range_min = 5;  // only the min, above every value
+  c = square(5);
+  c.scalar.assign(25, 1.0);
+  EXPECT_THROW(render_point_cloud(c, q), std::invalid_argument);
   q = p;
   q.width = 40;  // 8 panels of 5 px cannot hold 10 px margins
   try {

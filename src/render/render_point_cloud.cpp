@@ -61,6 +61,8 @@ Camera make_camera(const RenderParams& p) {
   return cam;
 }
 
+}  // namespace
+
 void validate(const RenderParams& p) {
   auto bad = [](const std::string& what) { throw std::invalid_argument(what); };
   if (p.width < 16 || p.width > 16384 || p.height < 16 || p.height > 16384)
@@ -88,6 +90,8 @@ void validate(const RenderParams& p) {
     bad("the colour range must have min < max, not " + number_text(p.range_min) + ", " +
         number_text(p.range_max));
 }
+
+namespace {
 
 std::string cloud_name(const RenderCloud& c, std::size_t k) {
   return "cloud " + std::to_string(k + 1) + (c.label.empty() ? "" : " (" + c.label + ")");
@@ -381,7 +385,11 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
       if (any_scalar) {
         if (given_lo) lo = params.range_min;
         if (given_hi) hi = params.range_max;
-        if (lo > hi) std::swap(lo, hi);  // one end given beyond the data's other end
+        if (lo > hi)
+          throw std::invalid_argument(
+              "the colour range's " + std::string(given_lo ? "min " : "max ") +
+              number_text(given_lo ? lo : hi) + " lies beyond the data's other end, " +
+              number_text(given_lo ? hi : lo) + "; give both ends");
         ColorMap map = params.color_map;
         if (map == ColorMap::Auto) map = lo < 0 && hi > 0 ? ColorMap::Diverging : ColorMap::Viridis;
         if (map == ColorMap::Diverging && !given_lo && !given_hi) {
@@ -441,6 +449,9 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
   if (!std::isfinite(scale)) scale = 1.0;  // a single point, or all in one place
   rep.pixels_per_unit = scale;
   const double xc = 0.5 * (x_lo + x_hi), yc = 0.5 * (y_lo + y_hi);
+  // Depth is stored as float, measured from the first point, so that clouds
+  // far from the origin keep its precision.
+  const double zc = clouds[0].positions.row(0).dot(cam.toward.transpose());
 
   Canvas canvas(W, H, params.background);
   const double ambient = params.ambient;
@@ -455,7 +466,7 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
     Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> S(count, 3);
     S.col(0) = ((c.positions * cam.right).array() - xc) * scale + cx;
     S.col(1) = cy - ((c.positions * cam.up).array() - yc) * scale;
-    S.col(2) = c.positions * cam.toward;
+    S.col(2) = (c.positions * cam.toward).array() - zc;
     const bool scalar = coloring.active && !c.scalar.empty();
     auto base = [&](double s) { return scalar ? coloring.base(s) : coloring.surface; };
 

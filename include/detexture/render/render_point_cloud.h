@@ -110,8 +110,9 @@ struct RenderParams {
   int margin = 12;  ///< pixels left empty around each panel's drawing, >= 0
   ColorMap color_map = ColorMap::Auto;
   /// Scalar values mapped to the ends of the colour map; NaN = from the data
-  /// (over all clouds; made symmetric about 0 for the diverging map). Values
-  /// outside are clamped to the end colours.
+  /// (over all clouds; made symmetric about 0 for the diverging map when
+  /// both are NaN). Values outside are clamped to the end colours. The
+  /// diverging map's white is the middle of the range.
   double range_min = std::numeric_limits<double>::quiet_NaN();
   double range_max = std::numeric_limits<double>::quiet_NaN();
   bool color_bar = true;  ///< draw a colour bar with the range's labels when colouring
@@ -120,8 +121,13 @@ struct RenderParams {
       0;  ///< pixel size of the 5x7 font's dots, in [0, 8]; 0 = 2 above 500 px height, else 1
 };
 
+/// Throws std::invalid_argument with a sentence naming the parameter if any
+/// is out of its range (render_point_clouds calls it first; callers may call
+/// it before reading their inputs).
+void validate(const RenderParams& params);
+
 struct RenderReport {
-  std::vector<double> point_size;              ///< disc diameter used for each cloud, pixels
+  std::vector<double> point_size;  ///< disc diameter used for each cloud, pixels; 0 for a mesh
   std::vector<std::size_t> estimated_normals;  ///< per cloud: normals computed (0 if given)
   ColorMap color_map = ColorMap::Auto;         ///< the map used (Auto resolved), when colouring
   double range_min = 0.0, range_max = 0.0;     ///< the scalar range used, when colouring
