@@ -133,20 +133,26 @@ Normals mesh_normals(const RenderCloud& c) {
 // rather than the 1st: it measures the density whatever the sampling
 // pattern (on a grid it is 1.4 spacings, on random samples a little more),
 // where the nearest neighbour of random samples is often much closer than
-// the gaps between them.
-double median_spacing8(const Positions& P) {
+// the gaps between them. knn: the k-nearest neighborhoods of P if already
+// computed (rows sorted by distance, self first), else null.
+double median_spacing8(const Positions& P, const Neighborhoods* knn) {
   constexpr std::size_t k = 8;
   const auto n = static_cast<std::size_t>(P.rows());
   if (n < k + 1) return 0.0;
-  const PointIndex index(P);
   const std::size_t stride = std::max<std::size_t>(1, n / 4000);
   std::vector<double> d;
-  std::vector<std::uint32_t> found;
-  std::vector<double> found_sq;
-  for (std::size_t i = 0; i < n; i += stride) {
-    const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
-    index.nearest(q, k + 1, found, found_sq);  // the point itself comes first
-    d.push_back(std::sqrt(found_sq.back()));
+  if (knn && knn->size() == n && knn->count(0) > k) {
+    for (std::size_t i = 0; i < n; i += stride)
+      d.push_back((P.row(knn->begin(i)[k]) - P.row(i)).norm());
+  } else {
+    const PointIndex index(P);
+    std::vector<std::uint32_t> found;
+    std::vector<double> found_sq;
+    for (std::size_t i = 0; i < n; i += stride) {
+      const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
+      index.nearest(q, k + 1, found, found_sq);  // the point itself comes first
+      d.push_back(std::sqrt(found_sq.back()));
+    }
   }
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
   return d[d.size() / 2];
@@ -350,6 +356,7 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
 
   // Normals for the clouds that came without.
   std::vector<Normals> estimated(clouds.size());
+  std::vector<double> spacing(clouds.size(), -1.0);  // for the point size; < 0: not yet known
   for (std::size_t k = 0; k < clouds.size(); ++k) {
     const RenderCloud& c = clouds[k];
     std::size_t count = 0;
@@ -359,6 +366,7 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
       } else {
         const Neighborhoods N = knn_neighborhoods(c.positions, params.normal_neighbors);
         estimated[k] = estimate_normals(c.positions, N).normals;
+        spacing[k] = median_spacing8(c.positions, &N);
       }
       count = static_cast<std::size_t>(c.positions.rows());
     }
@@ -472,7 +480,10 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
 
     if (c.triangles.rows() == 0) {
       double size = params.point_size;
-      if (size == 0) size = std::clamp(1.5 * median_spacing8(c.positions) * scale, 1.0, 64.0);
+      if (size == 0)
+        size = std::clamp(
+            1.5 * (spacing[k] >= 0 ? spacing[k] : median_spacing8(c.positions, nullptr)) * scale,
+            1.0, 64.0);
       rep.point_size.push_back(size);
       for (Eigen::Index i = 0; i < count; ++i) {
         const Rgb color =
