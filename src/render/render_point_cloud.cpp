@@ -354,25 +354,6 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
   const int ts = params.text_scale > 0 ? params.text_scale : (H > 500 ? 2 : 1);
   const int text_h = render_detail::kGlyphHeight * ts;
 
-  // Normals for the clouds that came without.
-  std::vector<Normals> estimated(clouds.size());
-  std::vector<double> spacing(clouds.size(), -1.0);  // for the point size; < 0: not yet known
-  for (std::size_t k = 0; k < clouds.size(); ++k) {
-    const RenderCloud& c = clouds[k];
-    std::size_t count = 0;
-    if (c.normals.rows() == 0) {
-      if (c.triangles.rows() > 0) {
-        estimated[k] = mesh_normals(c);
-      } else {
-        const Neighborhoods N = knn_neighborhoods(c.positions, params.normal_neighbors);
-        estimated[k] = estimate_normals(c.positions, N).normals;
-        spacing[k] = median_spacing8(c.positions, &N);
-      }
-      count = static_cast<std::size_t>(c.positions.rows());
-    }
-    rep.estimated_normals.push_back(count);
-  }
-
   // The colour range, over every cloud that has a scalar.
   Coloring coloring;
   coloring.surface = params.surface_color;
@@ -460,6 +441,26 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
   // Depth is stored as float, measured from the first point, so that clouds
   // far from the origin keep its precision.
   const double zc = clouds[0].positions.row(0).dot(cam.toward.transpose());
+
+  // Normals for the clouds that came without (after the checks above: it
+  // is the slow part).
+  std::vector<Normals> estimated(clouds.size());
+  std::vector<double> spacing(clouds.size(), -1.0);  // for the point size; < 0: not yet known
+  for (std::size_t k = 0; k < clouds.size(); ++k) {
+    const RenderCloud& c = clouds[k];
+    std::size_t count = 0;
+    if (c.normals.rows() == 0) {
+      if (c.triangles.rows() > 0) {
+        estimated[k] = mesh_normals(c);
+      } else {
+        const Neighborhoods N = knn_neighborhoods(c.positions, params.normal_neighbors);
+        estimated[k] = estimate_normals(c.positions, N).normals;
+        spacing[k] = median_spacing8(c.positions, &N);
+      }
+      count = static_cast<std::size_t>(c.positions.rows());
+    }
+    rep.estimated_normals.push_back(count);
+  }
 
   Canvas canvas(W, H, params.background);
   const double ambient = params.ambient;
