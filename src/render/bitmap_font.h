@@ -16,6 +16,9 @@ namespace detexture::render_detail {
 constexpr int kGlyphWidth = 5;    ///< dots
 constexpr int kGlyphHeight = 7;   ///< dots
 constexpr int kGlyphAdvance = 6;  ///< dots from one character to the next
+/// g, p, q and y are drawn this many dots lower, their tails below the
+/// baseline: a line of text is kGlyphHeight + kGlyphDescent dots high.
+constexpr int kGlyphDescent = 2;
 
 /// The 7 rows of 5 characters ('#' = dot, '.' = none) of character c. Every
 /// printable ASCII character has one; others (bytes of UTF-8, control
@@ -24,6 +27,9 @@ const std::array<const char*, kGlyphHeight>& glyph(char c);
 
 /// Width in pixels of text drawn with dots of scale x scale pixels.
 int text_width(const std::string& text, int scale);
+
+/// g, p, q, y: drawn kGlyphDescent dots lower than the others.
+bool has_descender(char c);
 
 /// Draw text with its top left corner at (x, y), dots of scale x scale
 /// pixels, clipped to the columns [clip_x0, clip_x1) and to the image.

@@ -401,7 +401,8 @@ Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderPa
   // the right.
   bool any_label = false;
   for (const RenderCloud& c : clouds) any_label = any_label || !c.label.empty();
-  const int label_h = params.labels && any_label ? text_h + 2 * 3 * ts : 0;
+  const int label_h =
+      params.labels && any_label ? text_h + render_detail::kGlyphDescent * ts + 2 * 3 * ts : 0;
   const bool bar = coloring.active && params.color_bar;
   std::vector<std::string> bar_labels;
   int bar_w = 0, bar_width = 0;
