@@ -73,7 +73,7 @@ const char* up_axis_name(UpAxis axis);
 enum class ColorMap {
   Auto,       ///< Diverging when the range has both signs, Viridis otherwise
   Viridis,    ///< dark blue -> green -> yellow, for fields of one sign
-  Diverging,  ///< blue -> white -> red over a range symmetric about 0, for signed fields
+  Diverging,  ///< blue -> white (the range's middle, 0 by default) -> red, for signed fields
 };
 /// Parse "auto", "viridis" or "diverging"; throws std::invalid_argument otherwise.
 ColorMap parse_color_map(const std::string& text);
@@ -117,8 +117,9 @@ struct RenderParams {
   double range_max = std::numeric_limits<double>::quiet_NaN();
   bool color_bar = true;  ///< draw a colour bar with the range's labels when colouring
   bool labels = true;     ///< print each cloud's label above its panel
-  int text_scale =
-      0;  ///< pixel size of the 5x7 font's dots, in [0, 8]; 0 = 2 above 500 px height, else 1
+  /// Size in pixels of a dot of the 5x7 font, in [0, 8]; 0 = 2 for images
+  /// taller than 500 px, else 1.
+  int text_scale = 0;
 };
 
 /// Throws std::invalid_argument with a sentence naming the parameter if any
@@ -144,8 +145,9 @@ struct RenderReport {
 ///
 /// Throws std::invalid_argument with a sentence for parameters out of range,
 /// no clouds, an empty cloud, sizes that disagree (normals, scalar), a
-/// triangle index out of range, non-finite coordinates, or an empty range
-/// (range_min >= range_max when both are given).
+/// triangle index out of range, non-finite coordinates, an empty range
+/// (range_min >= range_max when both are given, or one end given beyond the
+/// data's other end), or panels too narrow for their margins.
 Image render_point_clouds(const std::vector<RenderCloud>& clouds, const RenderParams& params = {},
                           RenderReport* report = nullptr);
 
