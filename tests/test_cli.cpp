@@ -238,6 +238,37 @@ TEST_F(Cli, RenderDrawsCloudsSideBySide) {
   EXPECT_EQ(coloured_right, 0);
 }
 
+TEST_F(Cli, RenderDrawsTheFacesOfAMesh) {
+  // A unit square of two triangles, written as a PLY mesh without normals.
+  PointCloud mesh;
+  mesh.positions.resize(4, 3);
+  mesh.positions << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  OtherElement faces;
+  faces.name = "face";
+  faces.properties = {{"vertex_indices", ScalarType::Int32, true, ScalarType::UInt8}};
+  faces.values = {3, 0, 1, 2, 3, 0, 2, 3};
+  faces.row_offsets = {0, 4, 8};
+  mesh.other_elements.push_back(faces);
+  write_point_cloud(path("mesh.ply"), mesh);
+  ASSERT_EQ(run("render " + path("mesh.ply") + " -o " + path("mesh.png") +
+                " --size 200x200 --view top --light 0,0 --no-labels"),
+            0)
+      << stderr_;
+  const Image image = test::read_png(path("mesh.png"));
+  ASSERT_EQ(image.width, 200);
+  // The default 12 px margins: pixel centres 12.5 .. 187.5 lie in the
+  // square [12, 188], all in the surface colour (face normals, facing the
+  // light); four corner points alone would be four dots.
+  const RenderParams defaults;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x) {
+      const bool inside = x >= 12 && x < 188 && y >= 12 && y < 188;
+      const std::array<std::uint8_t, 3> want =
+          inside ? defaults.surface_color : defaults.background;
+      ASSERT_EQ(image.pixel(x, y), want) << x << "," << y;
+    }
+}
+
 TEST_F(Cli, RenderExitCodes) {
   write_point_cloud(path("in.ply"), bumpy(true));
   EXPECT_EQ(run("render " + path("missing.ply") + " -o " + path("o.png")), 3);
