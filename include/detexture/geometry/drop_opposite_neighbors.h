@@ -1,0 +1,51 @@
+// Neighborhoods that stay on their own sheet of a thin part.
+//
+// A radius neighborhood R_i of a point on a thin part (a fin, an ear, a
+// finger, a plate, two strands of a tube passing close) reaches through to
+// the other side once the part is thinner than 2r. Those neighbors lie on a
+// different sheet of the surface, their normals point the other way, and
+// every stage that mixes them in is wrong: RANSAC fits a plane between the
+// sheets (Eq. 2), the Gaussian and rolling filters (Eqs. 1, 3) average
+// opposite normals, and the position update pulls the sheets together. The
+// paper's shapes are exactly such parts; measured on them before this stage,
+// points near the other side ended about twice as far off in normal as the
+// rest.
+//
+// So a neighbor j is dropped from R_i when its normal makes more than
+// `max_angle` with n_i. The test is symmetric, so symmetric neighborhoods
+// stay symmetric. It needs oriented normals (the input's, or the estimated
+// and oriented ones). Texture slopes tilt normals too, but two points of one
+// sheet rarely face more than 120° apart (a bump's opposite flanks at 60°
+// each), while the two sides of a thin part face about 180° apart; a sharp
+// crease of dihedral angle θ puts its faces' normals 180° − θ apart, so
+// creases sharper than 60° would be cut (the pyramid's 63° apex edges stay).
+#pragma once
+
+#include <cstddef>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/types.h"
+
+namespace detexture {
+
+struct DropOppositeNeighborsParams {
+  /// Largest angle between n_i and a neighbor's normal for the neighbor to
+  /// stay in R_i, in degrees, in (0, 180]; 180 keeps every neighbor (the paper).
+  double max_angle_deg = 120.0;
+  /// Drop only pairs that are also back to back: each behind the other's
+  /// tangent plane, as across the material of a thin part (see above).
+  bool back_to_back_only = true;
+};
+
+/// Remove from every row of R (in place, order kept) the neighbors whose
+/// normal in N (#P by 3, unit or zero) makes more than params.max_angle_deg
+/// with the row point's normal. Pairs with a zero normal are kept (nothing
+/// to judge by). Returns the number of (i, j) entries removed. Throws
+/// std::invalid_argument for an angle outside (0, 180] or a size mismatch.
+std::size_t drop_opposite_neighbors(Neighborhoods& R, const Positions& P, const Normals& N,
+                                    const DropOppositeNeighborsParams& params);
+
+/// Check params; throws std::invalid_argument with a sentence.
+void validate(const DropOppositeNeighborsParams& params);
+
+}  // namespace detexture
