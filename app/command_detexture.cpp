@@ -126,6 +126,9 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   std::fprintf(
       f, "  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
+  std::fprintf(f, "  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
+  std::fprintf(f, "  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
+               r.texture_height, r.max_move, r.moves_limited);
   std::fprintf(f, "  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n",
                r.texture_points, r.ransac_mean_iterations);
   std::fprintf(f, "  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n",
@@ -185,6 +188,30 @@ int run_detexture(int argc, char** argv) {
                  "RANSAC planes per neighborhood (Eq. 2): 1 is the paper; 2-3 also keep the "
                  "other faces at creases and corners as surface instead of texture")
       ->capture_default_str();
+  app.add_option("--move-limit", params.move_limit,
+                 "No point moves farther than this multiple of the texture height found, plus "
+                 "λ; 0 for no limit (the paper)")
+      ->capture_default_str();
+  app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
+               "Leave out every neighbor past --sheet-angle, not only those back to back "
+               "with the point (across a thin part)");
+  app.add_option("--sheet-angle", params.sheets.max_angle_deg,
+                 "Neighbors whose normal differs from the point's by more than this (degrees) "
+                 "are on the other side of a thin part and are left out of R_i; 180 keeps all "
+                 "(the paper)")
+      ->capture_default_str();
+  std::map<std::string, UnderlyingSurface> surfaces{{"plane", UnderlyingSurface::Plane},
+                                                    {"quadric", UnderlyingSurface::Quadric}};
+  app.add_option("--surface", params.texture.surface,
+                 "Model of the underlying surface in each neighborhood (Eq. 2): plane (the "
+                 "paper: piecewise flat) or quadric (ours: the RANSAC plane bent to a curved "
+                 "surface, for organic shapes)")
+      ->transform(CLI::CheckedTransformer(surfaces, CLI::ignore_case).description(""))
+      ->type_name("MODEL")
+      ->default_str(name_of(surfaces, params.texture.surface));
+  add_length(app, "--min-surface-radius", params.min_surface_radius,
+             "Quadric surface: the tightest radius of curvature the underlying surface may "
+             "have; more tightly curved relief is texture");
   app.add_option("--sigma-r", params.rolling.sigma_r_deg,
                  "σr: range scale of the rolling filter (Eq. 3), degrees. Larger gives smoother "
                  "results; creases sharper than about 2σr survive")
@@ -405,6 +432,13 @@ int run_detexture(int argc, char** argv) {
                    r.neighbors.min, r.neighbors.max, r.texture_points,
                    100.0 * r.texture_points / cloud.size(), r.ransac_mean_iterations,
                    r.rolling_iterations, r.update_iterations, r.mean_displacement);
+      if (r.moves_limited > 0)
+        std::fprintf(stderr, "  moves cut to the limit %g (texture height %g): %zu points\n",
+                     r.max_move, r.texture_height, r.moves_limited);
+      if (r.opposite_neighbors > 0)
+        std::fprintf(stderr, "  neighbor pairs left out as another sheet: %zu (%.2f%%)\n",
+                     r.opposite_neighbors,
+                     100.0 * r.opposite_neighbors / (r.neighbors.mean * cloud.size()));
       if (!texture_layer.empty())
         std::fprintf(stderr, "  texture layer: %s\n", texture_layer.c_str());
       std::fprintf(stderr, "  time: read %.2f s", read_s);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include "detexture/eval/synthesize_shape.h"
 #include "test_support.h"
 
 namespace detexture {
@@ -24,6 +25,63 @@ TEST(DetectTexture, BumpOnPlaneIsTexture) {
   }
   EXPECT_GT(det.texture_points, 20u);
   EXPECT_EQ(det.no_plane, 0u);
+}
+
+// A sphere of radius 0.5 seen through neighborhoods of r = 0.15: the sag
+// r²/(2·0.5) = 0.0225 is three times λ = 0.0075, so a plane holds at most a
+// band 2λ deep, 4·0.5·λ/r² = 2/3 of the area of R_i, and every point fits
+// in fewer than δ = 0.8 of its neighborhoods. The quadric holds it all.
+TEST(DetectTexture, CurvedSurfaceIsNotTextureWithTheQuadric) {
+  SynthParams sp;
+  sp.shape = BaseShape::Sphere;
+  sp.texture = TextureKind::None;
+  sp.points = 8000;
+  sp.ground_truth_points = 1;
+  const SynthesizedShape s = synthesize_shape(sp);
+  const Neighborhoods R = radius_neighborhoods(s.positions, {0.15, 0});
+  DetectTextureParams params;
+  params.lambda = 0.0075;
+  params.surface = UnderlyingSurface::Plane;
+  const TextureDetection plane = detect_texture(s.positions, R, params);
+  EXPECT_GT(plane.texture_points, s.positions.rows() / 2);
+  params.surface = UnderlyingSurface::Quadric;
+  params.min_surface_radius = 0.075;
+  const TextureDetection quadric = detect_texture(s.positions, R, params);
+  EXPECT_LT(quadric.texture_points, s.positions.rows() / 100);
+  // A limit on the curvature tighter than the sphere's gives the plane back.
+  params.min_surface_radius = 1.0;
+  EXPECT_EQ(detect_texture(s.positions, R, params).is_texture, plane.is_texture);
+}
+
+// Bumps on that sphere (R = 0.1, A = 0.03) stay texture: the quadric is
+// fitted to the plane's inliers, so the bumps do not bend it.
+TEST(DetectTexture, BumpsOnACurvedSurfaceStayTexture) {
+  SynthParams sp;
+  sp.shape = BaseShape::Sphere;
+  sp.texture = TextureKind::Bumps;
+  sp.size = 0.1;
+  sp.amplitude = 0.03;
+  sp.points = 12000;
+  sp.ground_truth_points = 1;
+  const SynthesizedShape s = synthesize_shape(sp);
+  const Neighborhoods R = radius_neighborhoods(s.positions, {0.15, 0});
+  DetectTextureParams params;
+  params.lambda = 0.0075;
+  params.min_surface_radius = 0.075;
+  const TextureDetection det = detect_texture(s.positions, R, params);
+  std::size_t high = 0, high_found = 0, flat = 0, flat_found = 0;
+  for (std::size_t i = 0; i < s.texture_heights.size(); ++i) {
+    if (s.texture_heights[i] > 0.5 * sp.amplitude) {
+      ++high;
+      high_found += det.is_texture[i];
+    } else if (s.texture_heights[i] == 0.0) {
+      ++flat;
+      flat_found += det.is_texture[i];
+    }
+  }
+  ASSERT_GT(high, 100u);
+  EXPECT_GT(high_found, 0.95 * high);
+  EXPECT_LT(flat_found, 0.2 * flat);
 }
 
 TEST(DetectTexture, FlatPlaneHasNoTexture) {

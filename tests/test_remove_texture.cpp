@@ -45,6 +45,44 @@ TEST(RemoveTexture, BumpOnPlaneGoesBackToThePlane) {
   EXPECT_LT((r.texture_height - (s.P.col(2) - r.positions.col(2))).cwiseAbs().maxCoeff(), 1e-3);
 }
 
+// A thin plate: the bumpy sheet above (bump 0.02 high, 0.015 wide) and a flat
+// sheet 0.03 below facing down. r = 0.06 reaches through, so without
+// separating the sheets every filter averages opposite normals and the
+// position update pulls the sheets together; with it each sheet is as if
+// alone: back to z = 0 and z = -0.03, normals +z and -z.
+TEST(RemoveTexture, ThinPlateKeepsBothSheets) {
+  const auto top = test::bumpy_plane(81, 0.02, 0.015);
+  const Eigen::Index n = top.P.rows();
+  Positions P(2 * n, 3);
+  Normals N(2 * n, 3);
+  P.topRows(n) = top.P;
+  N.topRows(n) = top.N;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    P.row(n + i) << top.P(i, 0), top.P(i, 1), -0.03;
+    N.row(n + i) << 0, 0, -1;
+  }
+  auto worst = [&](const RemoveTextureResult& r) {
+    double dz = 0.0, angle = 0.0;
+    for (Eigen::Index i = 0; i < 2 * n; ++i) {
+      const bool upper = i < n;
+      const double x = P(i, 0), y = P(i, 1);
+      if (std::min({x, y, 1 - x, 1 - y}) < 0.1) continue;  // half-empty border rows
+      dz = std::max(dz, std::abs(r.positions(i, 2) - (upper ? 0.0 : -0.03)));
+      angle = std::max(angle, test::angle_deg(r.normals.row(i),
+                                              Eigen::RowVector3d(0, 0, upper ? 1 : -1)));
+    }
+    return std::pair<double, double>(dz, angle);
+  };
+  RemoveTextureParams p = params_for(0.06, 0.002);
+  const auto [dz, angle] = worst(remove_texture(P, N, p));
+  EXPECT_LT(dz, 0.002);
+  EXPECT_LT(angle, 2.5);
+  p.sheets.max_angle_deg = 180.0;  // the paper: both sheets in R_i
+  const auto [mixed_dz, mixed_angle] = worst(remove_texture(P, N, p));
+  EXPECT_GT(mixed_dz, 2 * dz);
+  EXPECT_GT(mixed_angle, 2 * angle);
+}
+
 TEST(RemoveTexture, CubeLosesItsDomesAndKeepsSharpEdges) {
   SynthParams sp;
   sp.shape = BaseShape::Cube;

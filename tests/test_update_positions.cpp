@@ -33,6 +33,39 @@ TEST(UpdatePositions, GlobalPutsBumpBackOnPlane) {
   EXPECT_LT((global.positions.leftCols(2) - s.P.leftCols(2)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The move limit cuts every move longer than it to its length, along the
+// same direction, and counts those points; shorter moves are untouched.
+TEST(UpdatePositions, MoveLimitCutsLongMovesOnly) {
+  const auto s = test::bumpy_plane(61, 0.03, 0.03);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
+  DetectTextureParams tp;
+  tp.lambda = 0.002;
+  const TextureDetection det = detect_texture(s.P, R, tp);
+  Normals up(s.P.rows(), 3);
+  up.rowwise() = Eigen::RowVector3d(0, 0, 1);
+  UpdatePositionsParams params;
+  params.sigma_p = 0.03;
+  params.solve_radius = 0.03;
+  const UpdatePositionsResult free = update_positions(s.P, up, R, det.is_texture, params);
+  params.max_move = 0.01;
+  const UpdatePositionsResult cut = update_positions(s.P, up, R, det.is_texture, params);
+  std::size_t long_moves = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double free_move = (free.positions.row(i) - s.P.row(i)).norm();
+    const Eigen::RowVector3d step = cut.positions.row(i) - s.P.row(i);
+    if (free_move > 0.01) {
+      ++long_moves;
+      EXPECT_NEAR(step.norm(), 0.01, 1e-12);
+      EXPECT_NEAR(step.normalized().dot((free.positions.row(i) - s.P.row(i)) / free_move), 1.0,
+                  1e-12);
+    } else {
+      EXPECT_EQ(cut.positions.row(i), free.positions.row(i));
+    }
+  }
+  EXPECT_GT(long_moves, 10u);
+  EXPECT_EQ(cut.limited, long_moves);
+}
+
 // On a sphere with its exact normals the global update leaves the points on
 // the sphere: no shrinking, no expansion. The paper's point-by-point updates
 // fit each point to its neighbors' tangent planes, which lie outside a convex

@@ -4,7 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +16,8 @@
 namespace detexture {
 namespace {
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 // Neighbors of one point as structure-of-arrays floats relative to the point,
 // so that counting a plane's inliers is one contiguous loop the compiler
 // vectorizes (4 per instruction with SSE2; with the early exit below, the
@@ -22,14 +26,21 @@ namespace {
 // percent of r.
 struct Points {
   std::vector<float> x, y, z;
+  std::vector<float> nx, ny, nz;  // their normals, when the caller gave normals
   std::vector<std::uint32_t> id;  // position in R_i
   std::size_t size() const { return x.size(); }
   void clear() {
     x.clear();
     y.clear();
     z.clear();
+    nx.clear();
+    ny.clear();
+    nz.clear();
     id.clear();
   }
+  bool has_normals() const { return nx.size() == x.size() && !x.empty(); }
+  // Point t against a model, with its normal where there is one.
+  bool fits(const struct SurfaceTest& model, std::size_t t, float lambda, float min_cos) const;
   void push(float px, float py, float pz, std::uint32_t t) {
     x.push_back(px);
     y.push_back(py);
@@ -46,6 +57,43 @@ struct PlaneTest {
     return std::abs(nx * px + ny * py + nz * pz - d) < lambda;
   }
 };
+
+// The first model of a neighborhood: a plane n . q = d, optionally bent by a
+// quadratic height over it, h(u, v) = a u^2 + b u v + c v^2 + e u + f v with
+// u = e1 . q, v = e2 . q (e1, e2, n orthonormal). With a = ... = f = 0 it is
+// the plane test above, to the bit.
+struct SurfaceTest {
+  PlaneTest plane;
+  float e1x = 0, e1y = 0, e1z = 0, e2x = 0, e2y = 0, e2z = 0;
+  float a = 0, b = 0, c = 0, e = 0, f = 0;
+  bool curved = false;
+  bool fits(float px, float py, float pz, float lambda) const {
+    const float h = plane.nx * px + plane.ny * py + plane.nz * pz - plane.d;
+    if (!curved) return std::abs(h) < lambda;
+    const float u = e1x * px + e1y * py + e1z * pz, v = e2x * px + e2y * py + e2z * pz;
+    return std::abs(h - (a * u * u + b * u * v + c * v * v + e * u + f * v)) < lambda;
+  }
+  // The same, and for a curved model the point's normal (nx, ny, nz) must
+  // also lie within acos(min_cos) of the model's normal there (see
+  // refine_quadric). min_cos <= -1 skips that test.
+  bool fits(float px, float py, float pz, float qnx, float qny, float qnz, float lambda,
+            float min_cos) const {
+    if (!fits(px, py, pz, lambda)) return false;
+    if (!curved || min_cos <= -1.0f) return true;
+    const float u = e1x * px + e1y * py + e1z * pz, v = e2x * px + e2y * py + e2z * pz;
+    const float gu = 2 * a * u + b * v + e, gv = b * u + 2 * c * v + f;
+    const float mx = plane.nx - gu * e1x - gv * e2x, my = plane.ny - gu * e1y - gv * e2y,
+                mz = plane.nz - gu * e1z - gv * e2z;
+    const float dot = mx * qnx + my * qny + mz * qnz;
+    // The plane's normal from RANSAC has either sign.
+    return std::abs(dot) >= min_cos * std::sqrt(mx * mx + my * my + mz * mz);
+  }
+};
+
+bool Points::fits(const SurfaceTest& model, std::size_t t, float lambda, float min_cos) const {
+  if (!has_normals()) return model.fits(x[t], y[t], z[t], lambda);
+  return model.fits(x[t], y[t], z[t], nx[t], ny[t], nz[t], lambda, min_cos);
+}
 
 struct Plane {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
@@ -178,6 +226,85 @@ PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams&
   return fit;
 }
 
+// Bends the plane of `fit` into a quadratic height field over it, fitted by
+// least squares to the current inliers and re-counted, a few times while the
+// inlier count grows (an iteratively reweighted fit with 0/1 weights). Starts
+// from the plane's inliers, so relief the plane rejected (a bump) does not
+// pull the fit; a curved underlying surface, whose sag over R_i exceeds λ,
+// is taken in ring by ring. Curvature is capped at 1/r_min (κ = 2|a| on the
+// axes): a quadric that bends more tightly than that fits texture, not shape.
+// Returns the inlier count of the result (the plane's when nothing helped).
+std::size_t refine_quadric(const Points& S, const Plane& plane, std::size_t plane_count,
+                           float lambda, float min_cos, double max_curvature, int rounds,
+                           SurfaceTest* out) {
+  SurfaceTest best;
+  best.plane = plane.test;
+  std::size_t best_count = plane_count;
+  const Eigen::Vector3d n = plane.normal;
+  const Eigen::Vector3d helper =
+      std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = n.cross(helper).normalized(), e2 = n.cross(e1);
+  SurfaceTest trial = best;
+  trial.e1x = static_cast<float>(e1.x());
+  trial.e1y = static_cast<float>(e1.y());
+  trial.e1z = static_cast<float>(e1.z());
+  trial.e2x = static_cast<float>(e2.x());
+  trial.e2y = static_cast<float>(e2.y());
+  trial.e2z = static_cast<float>(e2.z());
+  const std::size_t k = S.size();
+  for (int round = 0; round < rounds; ++round) {
+    // Normal equations of h - d = [u^2 uv v^2 u v 1] . x over the inliers.
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+    std::size_t used = 0;
+    double scale_sq = 0.0;
+    for (std::size_t t = 0; t < k; ++t) {
+      if (!(round == 0 ? best.fits(S.x[t], S.y[t], S.z[t], lambda)
+                       : S.fits(trial, t, lambda, min_cos)))
+        continue;
+      const double u = trial.e1x * S.x[t] + trial.e1y * S.y[t] + trial.e1z * S.z[t];
+      const double v = trial.e2x * S.x[t] + trial.e2y * S.y[t] + trial.e2z * S.z[t];
+      const double h = plane.test.nx * S.x[t] + plane.test.ny * S.y[t] +
+                       plane.test.nz * S.z[t] - plane.test.d;
+      scale_sq = std::max(scale_sq, u * u + v * v);
+      Eigen::Matrix<double, 6, 1> m;
+      m << u * u, u * v, v * v, u, v, 1.0;
+      A.selfadjointView<Eigen::Lower>().rankUpdate(m);
+      rhs += h * m;
+      ++used;
+    }
+    if (used < 12 || !(scale_sq > 0.0)) break;
+    Eigen::Matrix<double, 6, 6> full = A.selfadjointView<Eigen::Lower>();
+    // Scale the unknowns so the system is well conditioned at any r.
+    const double s = 1.0 / std::sqrt(scale_sq);
+    Eigen::Matrix<double, 6, 1> D;
+    D << s * s, s * s, s * s, s, s, 1.0;
+    const Eigen::Matrix<double, 6, 6> scaled = D.asDiagonal() * full * D.asDiagonal();
+    const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(scaled);
+    if (ldlt.info() != Eigen::Success) break;
+    const Eigen::Matrix<double, 6, 1> x = D.asDiagonal() * ldlt.solve(D.asDiagonal() * rhs);
+    if (!x.allFinite()) break;
+    // Principal curvatures of the height field at the centre are the
+    // eigenvalues of its Hessian [[2a, b], [b, 2c]].
+    const double mean = x(0) + x(2), diff = std::sqrt((x(0) - x(2)) * (x(0) - x(2)) + x(1) * x(1));
+    if (std::max(std::abs(mean + diff), std::abs(mean - diff)) > max_curvature) break;
+    trial.a = static_cast<float>(x(0));
+    trial.b = static_cast<float>(x(1));
+    trial.c = static_cast<float>(x(2));
+    trial.e = static_cast<float>(x(3));
+    trial.f = static_cast<float>(x(4));
+    trial.plane.d = static_cast<float>(plane.offset + x(5));
+    trial.curved = true;
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < k; ++t) count += S.fits(trial, t, lambda, min_cos);
+    if (count <= best_count) break;
+    best = trial;
+    best_count = count;
+  }
+  *out = best;
+  return best_count;
+}
+
 }  // namespace
 
 std::vector<float> hard_omega(const std::vector<std::uint8_t>& is_texture) {
@@ -208,6 +335,22 @@ void validate(const DetectTextureParams& p) {
   if (!(p.soft_floor >= 0.0 && p.soft_floor < p.delta))
     throw std::invalid_argument("the soft sub-neighborhood floor must lie in [0, delta), got " +
                                 number_text(p.soft_floor));
+  if (!(p.min_surface_radius >= 0.0) || !std::isfinite(p.min_surface_radius))
+    throw std::invalid_argument(
+        "the least radius of curvature of the underlying surface must be >= 0, got " +
+        number_text(p.min_surface_radius));
+  if (!(p.surface_min_gain >= 0.0 && p.surface_min_gain < 1.0))
+    throw std::invalid_argument("the quadric's least gain must lie in [0, 1), got " +
+                                number_text(p.surface_min_gain));
+  if (!(p.surface_normal_angle_deg > 0.0 && p.surface_normal_angle_deg <= 180.0))
+    throw std::invalid_argument("the quadric's normal angle must lie in (0, 180] degrees, got " +
+                                number_text(p.surface_normal_angle_deg));
+  if (!(p.surface_max_plane_share > 0.0 && p.surface_max_plane_share <= 1.0))
+    throw std::invalid_argument("the quadric's plane share must lie in (0, 1], got " +
+                                number_text(p.surface_max_plane_share));
+  if (p.surface_rounds < 1)
+    throw std::invalid_argument("the quadric surface needs at least 1 fitting round, got " +
+                                number_text(p.surface_rounds));
   if (p.max_iterations < 1)
     throw std::invalid_argument("the RANSAC iteration cap must be at least 1, got " +
                                 number_text(p.max_iterations));
@@ -215,12 +358,25 @@ void validate(const DetectTextureParams& p) {
 
 TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
                                 const DetectTextureParams& params, const ProgressFn& progress) {
+  return detect_texture(P, Normals(), R, params, progress);
+}
+
+TextureDetection detect_texture(const Positions& P, const Normals& point_normals,
+                                const Neighborhoods& R, const DetectTextureParams& params,
+                                const ProgressFn& progress) {
   validate(params);
+  if (point_normals.rows() != 0 && point_normals.rows() != P.rows())
+    throw std::invalid_argument("detect_texture: positions and normals differ in size");
+  const bool with_normals = point_normals.rows() != 0;
+  const Normals* normals = &point_normals;
+  const float min_cos = static_cast<float>(std::cos(params.surface_normal_angle_deg * M_PI / 180.0));
   const std::size_t n = R.size();
   if (static_cast<std::size_t>(P.rows()) != n)
     throw std::invalid_argument("detect_texture: positions and neighborhoods differ in size");
   TextureDetection out;
   out.inliers.assign(n, 0);
+  out.height.assign(n, 0.0f);
+  float* height = out.height.data();
   out.members.assign(n, 0);
   std::uint32_t* T = out.inliers.data();
   std::uint32_t* N = out.members.data();
@@ -229,6 +385,11 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   ProgressCounter counter(progress, n);
   const double cos_second_angle = std::cos(params.second_plane_angle_deg * M_PI / 180.0);
   const float lambda = static_cast<float>(params.lambda);
+  const bool curved = params.surface == UnderlyingSurface::Quadric;
+  const double max_plane_share = params.surface_max_plane_share;
+  const double min_gain = params.surface_min_gain;
+  const double max_curvature = params.min_surface_radius > 0.0 ? 1.0 / params.min_surface_radius
+                                                                : kInfinity;
   // T_j and N_j sum over the neighborhoods R_i that contain j. When j ∈ R_i
   // exactly if i ∈ R_j (radius neighborhoods without a cap), they are
   // gathered over R_j afterwards from the planes each point keeps; otherwise
@@ -238,7 +399,7 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   // corners) in a short list by point: 21 bytes per point instead of 49, at
   // what is otherwise the method's peak memory.
   const bool gather = R.symmetric;
-  std::vector<PlaneTest> first_plane(gather ? n : 0);
+  std::vector<SurfaceTest> first_plane(gather ? n : 0);
   std::vector<std::uint8_t> kept_count(gather ? n : 0, 0);
   std::vector<std::vector<std::pair<std::uint32_t, PlaneTest>>> further_by_thread(
       gather ? static_cast<std::size_t>(omp_get_max_threads()) : 0);
@@ -247,6 +408,7 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
   {
     Points all, rest;                  // R_i; the points no plane has taken yet
     std::vector<std::uint8_t> inlier;  // per neighbor: fits one of the planes
+    std::vector<std::uint8_t> bent_inlier;  // the same for the quadric model
     auto* further =
         gather ? &further_by_thread[static_cast<std::size_t>(omp_get_thread_num())] : nullptr;
 #pragma omp for schedule(dynamic, 256)
@@ -266,6 +428,11 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         const float qy = static_cast<float>(P(j, 1) - P(i, 1));
         const float qz = static_cast<float>(P(j, 2) - P(i, 2));
         all.push(qx, qy, qz, t);
+        if (with_normals) {
+          all.nx.push_back(static_cast<float>((*normals)(j, 0)));
+          all.ny.push_back(static_cast<float>((*normals)(j, 1)));
+          all.nz.push_back(static_cast<float>((*normals)(j, 2)));
+        }
         extent_sq = std::max<double>(extent_sq, qx * qx + qy * qy + qz * qz);
       }
       SplitMix64 rng(params.seed, i);
@@ -275,46 +442,89 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         ++no_plane;
         continue;
       }
-      inlier.assign(k, 0);
-      rest.clear();
-      for (std::uint32_t t = 0; t < k; ++t) {
-        inlier[t] = first.plane.fits(all.x[t], all.y[t], all.z[t], lambda);
-        if (!inlier[t]) rest.push(all.x[t], all.y[t], all.z[t], t);
-      }
-      int planes_kept = 1;
-      if (gather) first_plane[i] = first.plane.test;
-      // Further planes at an angle to every earlier one, each with a real
-      // share of the neighborhood, are the other faces of a crease or corner:
-      // their points are surface.
+      // The model: the first plane (or the quadric it bends into) and the
+      // further planes fitted to its outliers. Both are tried on curved
+      // surfaces, and the quadric is kept only when it explains more of R_i:
+      // at a crease the planes already explain both faces, and a quadric
+      // bending around the crease would only blur which face a point is on.
       const double min_share = params.second_plane_share * k;
-      Eigen::Vector3d normals_found[3] = {first.plane.normal};
-      for (int plane = 1; plane < params.planes; ++plane) {
-        if (rest.size() < std::max(3.0, min_share)) break;
-        const PlaneFit next = fit_plane(rest, extent_sq, params, lambda, rng, min_share);
-        total_tries += next.tries;
-        bool at_angle = next.count >= min_share;
-        for (int e = 0; e < plane && at_angle; ++e)
-          at_angle = std::abs(next.plane.normal.dot(normals_found[e])) < cos_second_angle;
-        if (!at_angle) break;
-        normals_found[plane] = next.plane.normal;
-        if (gather) further->emplace_back(static_cast<std::uint32_t>(i), next.plane.test);
-        ++planes_kept;
-        std::size_t kept = 0;
-        for (std::size_t s = 0; s < rest.size(); ++s) {
-          const bool fits = next.plane.fits(rest.x[s], rest.y[s], rest.z[s], lambda);
-          inlier[rest.id[s]] = fits;
-          if (!fits) {
-            rest.x[kept] = rest.x[s];
-            rest.y[kept] = rest.y[s];
-            rest.z[kept] = rest.z[s];
-            rest.id[kept] = rest.id[s];
-            ++kept;
+      auto explain = [&](const SurfaceTest& surface, std::vector<std::uint8_t>& fit,
+                         std::array<PlaneTest, 2>& found) {
+        fit.assign(k, 0);
+        rest.clear();
+        std::size_t total = 0;
+        for (std::uint32_t t = 0; t < k; ++t) {
+          fit[t] = all.fits(surface, t, lambda, min_cos);
+          total += fit[t];
+          if (!fit[t]) rest.push(all.x[t], all.y[t], all.z[t], t);
+        }
+        // Further planes at an angle to every earlier one, each with a real
+        // share of the neighborhood, are the other faces of a crease or
+        // corner: their points are surface.
+        int count = 0;
+        Eigen::Vector3d normals_found[3] = {first.plane.normal};
+        for (int plane = 1; plane < params.planes; ++plane) {
+          if (rest.size() < std::max(3.0, min_share)) break;
+          const PlaneFit next = fit_plane(rest, extent_sq, params, lambda, rng, min_share);
+          total_tries += next.tries;
+          bool at_angle = next.count >= min_share;
+          for (int e = 0; e < plane && at_angle; ++e)
+            at_angle = std::abs(next.plane.normal.dot(normals_found[e])) < cos_second_angle;
+          if (!at_angle) break;
+          normals_found[plane] = next.plane.normal;
+          found[static_cast<std::size_t>(count++)] = next.plane.test;
+          std::size_t kept = 0;
+          for (std::size_t s = 0; s < rest.size(); ++s) {
+            const bool fits = next.plane.fits(rest.x[s], rest.y[s], rest.z[s], lambda);
+            fit[rest.id[s]] = fits;
+            total += fits;
+            if (!fits) {
+              rest.x[kept] = rest.x[s];
+              rest.y[kept] = rest.y[s];
+              rest.z[kept] = rest.z[s];
+              rest.id[kept] = rest.id[s];
+              ++kept;
+            }
+          }
+          rest.x.resize(kept);
+          rest.y.resize(kept);
+          rest.z.resize(kept);
+          rest.id.resize(kept);
+        }
+        return std::pair<std::size_t, int>(total, count);
+      };
+      SurfaceTest surface;
+      surface.plane = first.plane.test;
+      std::array<PlaneTest, 2> further_found;
+      auto [explained, further_count] = explain(surface, inlier, further_found);
+      if (curved && explained < max_plane_share * k) {
+        SurfaceTest bent;
+        if (refine_quadric(all, first.plane, first.count, lambda, min_cos, max_curvature,
+                           params.surface_rounds, &bent) >
+            first.count + min_gain * k) {
+          std::array<PlaneTest, 2> bent_found;
+          const auto [bent_explained, bent_count] = explain(bent, bent_inlier, bent_found);
+          if (bent_explained > explained) {
+            surface = bent;
+            inlier.swap(bent_inlier);
+            further_found = bent_found;
+            further_count = bent_count;
           }
         }
-        rest.x.resize(kept);
-        rest.y.resize(kept);
-        rest.z.resize(kept);
-        rest.id.resize(kept);
+      }
+      {
+        // p_i itself sits at q = 0 relative to its own models.
+        float h = std::abs(surface.plane.d);
+        for (int e = 0; e < further_count; ++e)
+          h = std::min(h, std::abs(further_found[static_cast<std::size_t>(e)].d));
+        height[i] = h;
+      }
+      const int planes_kept = 1 + further_count;
+      if (gather) {
+        first_plane[i] = surface;
+        for (int e = 0; e < further_count; ++e)
+          further->emplace_back(static_cast<std::uint32_t>(i),
+                                further_found[static_cast<std::size_t>(e)]);
       }
       if (gather) {
         kept_count[i] = static_cast<std::uint8_t>(planes_kept);
@@ -349,6 +559,9 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
 #pragma omp parallel for schedule(dynamic, 1024)
     for (std::size_t j = 0; j < n; ++j) {
       std::uint32_t t_j = 0, n_j = 0;
+      float nj[3] = {0, 0, 0};
+      if (with_normals)
+        for (int c = 0; c < 3; ++c) nj[c] = static_cast<float>((*normals)(j, c));
       for (const std::uint32_t* nb = R.begin(j); nb != R.end(j); ++nb) {
         const std::uint32_t i = *nb;
         const int count = kept_count[i];
@@ -357,7 +570,9 @@ TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
         const float qx = static_cast<float>(P(j, 0) - P(i, 0));
         const float qy = static_cast<float>(P(j, 1) - P(i, 1));
         const float qz = static_cast<float>(P(j, 2) - P(i, 2));
-        bool fits = first_plane[i].fits(qx, qy, qz, lambda);
+        bool fits = with_normals ? first_plane[i].fits(qx, qy, qz, nj[0], nj[1], nj[2], lambda,
+                                                       min_cos)
+                                 : first_plane[i].fits(qx, qy, qz, lambda);
         for (std::uint32_t e = further_start[i]; e < further_start[i + 1] && !fits; ++e)
           fits = further[e].second.fits(qx, qy, qz, lambda);
         t_j += fits;

@@ -1,5 +1,6 @@
 #include "detexture/pipeline/remove_texture.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -44,7 +45,8 @@ void validate(const RemoveTextureParams& p) {
                                   {"lambda", p.lambda},
                                   {"sigma_s", p.sigma_s},
                                   {"sigma_p", p.sigma_p},
-                                  {"solve radius", p.solve_radius}})
+                                  {"solve radius", p.solve_radius},
+                                  {"least surface radius", p.min_surface_radius}})
     if (!(len.value > 0.0) || !std::isfinite(len.value))
       throw std::invalid_argument(std::string(name) + " must be a positive length, got " +
                                   to_string(len));
@@ -55,6 +57,9 @@ void validate(const RemoveTextureParams& p) {
   if (p.max_neighbors < 0) throw std::invalid_argument("the neighbor cap cannot be negative");
   if (p.max_neighbors > 0 && p.max_neighbors < 3)
     throw std::invalid_argument("a neighbor cap below 3 leaves no plane to fit; use 0 or >= 3");
+  if (!(p.move_limit >= 0.0) || !std::isfinite(p.move_limit))
+    throw std::invalid_argument("the move limit must be >= 0 (0 for none), got " +
+                                number_text(p.move_limit));
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
   // The stage validators check everything else; lengths are filled in with a
@@ -65,6 +70,7 @@ void validate(const RemoveTextureParams& p) {
   FilterNormalsRollingParams r = p.rolling;
   r.sigma_s = 1.0;
   validate(r);
+  validate(p.sheets);
   UpdatePositionsParams u = p.update;
   u.sigma_p = 1.0;
   u.solve_radius = 1.0;
@@ -179,17 +185,36 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                        std::to_string(100.0 * rep.orientation_inconsistency) +
                        "% of neighbor pairs disagree); consider --reorient");
 
+  if (params.sheets.max_angle_deg < 180.0) {
+    StageClock clock(observer, rep, "separate sheets");
+    rep.opposite_neighbors = drop_opposite_neighbors(R, P, result.input_normals, params.sheets);
+  }
+
   std::vector<float> omega;  // membership of Ω, for the filters
   {
     StageClock clock(observer, rep, "detect texture");
     DetectTextureParams tp = params.texture;
     tp.lambda = rep.lambda;
-    TextureDetection det = detect_texture(P, R, tp, clock.progress());
+    tp.min_surface_radius = params.min_surface_radius.resolve(rep.diagonal, rep.radius);
+    TextureDetection det = detect_texture(P, result.input_normals, R, tp, clock.progress());
     result.is_texture = std::move(det.is_texture);
     omega = std::move(det.omega);
     rep.texture_points = det.texture_points;
     rep.no_plane = det.no_plane;
     rep.ransac_mean_iterations = det.mean_iterations;
+    // Over the texture points: sparse features may be far fewer than 1% of
+    // the cloud. Without texture, over all points.
+    std::vector<float> heights;
+    for (std::size_t i = 0; i < n; ++i)
+      if (result.is_texture[i]) heights.push_back(det.height[i]);
+    if (heights.empty()) heights.swap(det.height);
+    if (!heights.empty()) {
+      const std::size_t at = (heights.size() - 1) * 99 / 100;
+      std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(at),
+                       heights.end());
+      rep.texture_height = heights[at];
+    }
+    if (params.move_limit > 0.0) rep.max_move = params.move_limit * rep.texture_height + rep.lambda;
   }
 
   Normals filtered;
@@ -215,6 +240,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     StageClock clock(observer, rep, "update positions");
     UpdatePositionsParams up = params.update;
     up.sigma_p = rep.sigma_p;
+    up.max_move = rep.max_move;
     up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
     // The global solve reads only the part of R_i within the solve radius:
     // keep that part alone, so the solve's coefficients take the place of the
@@ -226,6 +252,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;
+    rep.moves_limited = u.limited;
     result.positions = std::move(u.positions);
   }
   result.normals = std::move(filtered);

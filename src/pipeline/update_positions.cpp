@@ -10,6 +10,8 @@
 namespace detexture {
 
 void validate(const UpdatePositionsParams& p) {
+  if (!(p.max_move >= 0.0) || !std::isfinite(p.max_move))
+    throw std::invalid_argument("the largest move must be >= 0, got " + number_text(p.max_move));
   if (!(p.sigma_p > 0.0) || !std::isfinite(p.sigma_p))
     throw std::invalid_argument("sigma_p (position weight scale) must be positive, got " +
                                 number_text(p.sigma_p));
@@ -233,15 +235,35 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
   if (static_cast<std::size_t>(P.rows()) != R.size() || filtered.rows() != P.rows())
     throw std::invalid_argument(
         "update_positions: positions, normals and neighborhoods differ in size");
+  UpdatePositionsResult out;
   switch (params.mode) {
     case UpdateMode::Global:
-      return update_global(P, filtered, R, is_texture, params, progress);
+      out = update_global(P, filtered, R, is_texture, params, progress);
+      break;
     case UpdateMode::Isotropic:
-      return update_local(P, filtered, R, params, true, progress);
+      out = update_local(P, filtered, R, params, true, progress);
+      break;
     case UpdateMode::Eq9:
-      return update_local(P, filtered, R, params, false, progress);
+      out = update_local(P, filtered, R, params, false, progress);
+      break;
+    default:
+      throw std::logic_error("update_positions: unknown mode");
   }
-  throw std::logic_error("update_positions: unknown mode");
+  if (params.max_move > 0.0) {
+    const std::size_t n = static_cast<std::size_t>(P.rows());
+    double moved = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::RowVector3d step = out.positions.row(i) - P.row(i);
+      const double length = step.norm();
+      if (length > params.max_move) {
+        out.positions.row(i) = P.row(i) + step * (params.max_move / length);
+        ++out.limited;
+      }
+      moved += std::min(length, params.max_move);
+    }
+    out.mean_displacement = n ? moved / static_cast<double>(n) : 0.0;
+  }
+  return out;
 }
 
 }  // namespace detexture

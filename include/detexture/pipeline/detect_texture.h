@@ -18,6 +18,23 @@
 // curved, so a plane through it finds only a thin band of support and is
 // rejected. `planes = 1` is the paper's rule.
 //
+// Curved underlying surfaces. A plane through R_i (radius r) cannot hold a
+// surface whose sag over it, r²/(2ρ) for a radius of curvature ρ, exceeds λ:
+// on a sphere of ρ = 10r at the default λ = 0.05r every neighborhood already
+// loses its rim, and on organic shapes (limbs, snouts, ears) most points end
+// up labelled texture, Ω_i collapses to a biased band and the filters make
+// the surface worse than the input. By default the first plane is therefore
+// bent into a quadratic height field over it, h = a u² + b uv + c v² + e u +
+// f v (u, v along the plane), fitted by least squares to the plane's inliers
+// and re-counted, for a few rounds while the inliers grow. Starting from the
+// plane's inliers keeps relief the plane rejected (a bump) out of the fit; a
+// fit that bends more tightly than `min_surface_radius` is refused (texture,
+// not shape), and so is one that adds less than `surface_min_gain` of R_i
+// to the plane's inliers. The model with the quadric and the further planes
+// (below) is kept only when it explains more points than the planes alone,
+// so at creases the planes stay. The further planes at creases stay planes. `surface = Plane` is
+// the paper's test.
+//
 // Ω_i as weights. The filters (Eqs. 1, 3) take each neighbor's membership of
 // Ω as a weight ω_j in [0, 1]. `Hard` (the paper) is 1 for underlying
 // surface and 0 for texture. `Soft` (ours, an option) ramps with the vote
@@ -36,6 +53,12 @@
 #include "detexture/types.h"
 
 namespace detexture {
+
+/// The model RANSAC's first fit of each R_i is refined into.
+enum class UnderlyingSurface {
+  Plane,    ///< a plane (the paper: the underlying surface is piecewise flat)
+  Quadric,  ///< the plane bent into a quadratic height field over it (see above)
+};
 
 enum class SubneighborhoodMode {
   Hard,  ///< ω = 1 for underlying surface, 0 for texture (the paper)
@@ -65,6 +88,32 @@ struct DetectTextureParams {
   double second_plane_angle_deg = 20.0;
   /// Cap on RANSAC tries per plane, ≥ 1.
   int max_iterations = 100;
+  /// The model of the underlying surface in each R_i (see above).
+  UnderlyingSurface surface = UnderlyingSurface::Quadric;
+  /// Quadric: the tightest radius of curvature the underlying surface may
+  /// have, in the cloud's units; > 0, or 0 for no limit. Filled from
+  /// RemoveTextureParams (default 0.5r).
+  double min_surface_radius = 0.0;
+  /// Quadric: least share of R_i it must add to the plane's inliers to be
+  /// used, in [0, 1). Bending onto the foot of a bump on a flat face gains a
+  /// few points; a curved surface whose rim the plane misses gains many
+  /// (0.03 and 0.1 were measured: 0.1 gave up a fifth of the gain on a sphere
+  /// with dense scales, 0.03 left a flat cube with bumps 2% worse than the plane).
+  double surface_min_gain = 0.05;
+  /// Quadric: tried only where the planes explain less than this share of
+  /// R_i, in (0, 1]. Where a plane already holds most of the neighborhood the
+  /// surface is flat enough for the paper's test, and a quadric could only
+  /// bend into the texture (measured: V and U grooves lost 5-15% against the
+  /// plane with 1, nothing at 0.7; curved shapes kept most of their gain).
+  double surface_max_plane_share = 0.7;
+  /// Quadric, when normals are given: a point counts as an inlier of a
+  /// quadric only if its normal also lies within this angle of the
+  /// quadric's normal there, in degrees, in (0, 180] (180: no test). A
+  /// curved underlying surface agrees with its own normals; a quadric bent
+  /// onto the flank of a bump or into a groove does not.
+  double surface_normal_angle_deg = 30.0;
+  /// Quadric: least-squares rounds (refit to the inliers, recount), ≥ 1.
+  int surface_rounds = 3;
   /// Refit the best plane to its inliers by least squares before the final
   /// inlier count (not in the paper; steadier classification).
   bool refine = true;
@@ -81,6 +130,10 @@ struct TextureDetection {
   std::vector<std::uint32_t> inliers;    ///< #P; T_i
   std::vector<std::uint32_t> members;    ///< #P; N_i, neighborhoods with a plane that contain i
   std::vector<float> omega;              ///< #P; ω_i in [0, 1], membership of Ω (see above)
+  /// #P; distance of p_i from the underlying surface fitted to its own R_i
+  /// (the nearest of its models): the height of the texture at p_i as seen
+  /// at scale r; 0 where no plane was found.
+  std::vector<float> height;
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;      ///< neighborhoods with fewer than 3 points or collinear
   double mean_iterations = 0.0;  ///< RANSAC tries per neighborhood
@@ -89,6 +142,11 @@ struct TextureDetection {
 /// Classify every point as texture or underlying surface (Eq. 2). Deterministic
 /// for any thread count. Throws std::invalid_argument on out-of-range params.
 TextureDetection detect_texture(const Positions& P, const Neighborhoods& R,
+                                const DetectTextureParams& params, const ProgressFn& progress = {});
+
+/// The same with the points' normals N (#P by 3, or 0 rows for none), which
+/// the quadric surface uses to tell curvature from texture (see above).
+TextureDetection detect_texture(const Positions& P, const Normals& N, const Neighborhoods& R,
                                 const DetectTextureParams& params, const ProgressFn& progress = {});
 
 /// Hard Ω weights from labels: ω = 0 for texture, 1 otherwise (#P).

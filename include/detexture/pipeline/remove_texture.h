@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
@@ -52,6 +53,9 @@ struct RemoveTextureParams {
   Length radius{0.02, Length::Unit::Diagonal};
   /// λ: RANSAC distance threshold (Eq. 2). Bumps lower than λ count as surface.
   Length lambda{0.05, Length::Unit::Radius};
+  /// Quadric underlying surface (Eq. 2, see detect_texture.h): the tightest
+  /// radius of curvature the underlying surface may have; tighter is texture.
+  Length min_surface_radius{0.5, Length::Unit::Radius};
   /// σs: spatial scale of the normal filters (Eqs. 1, 3). Texture smaller than
   /// σs is smoothed away.
   Length sigma_s{1.0, Length::Unit::Radius};
@@ -59,6 +63,13 @@ struct RemoveTextureParams {
   Length sigma_p{0.5, Length::Unit::Radius};
   /// Global position update: neighbors closer than this enter the solve.
   Length solve_radius{0.5, Length::Unit::Radius};
+  /// No point moves farther than this multiple of the texture height found
+  /// (the 99th percentile of the texture points' heights above the surface
+  /// fitted to their own neighborhood, Eq. 2's models), plus λ; 0 = no limit (the
+  /// paper). Without it, weakly anchored texture on tightly curved parts
+  /// (limb tips) could be carried 3-4 times the texture's height off the
+  /// surface by the global update.
+  double move_limit = 1.5;
   /// Keep at most this many nearest neighbors in R_i (0 = all).
   int max_neighbors = 0;
   /// Neighbors used to estimate and orient normals when the input has none.
@@ -66,6 +77,9 @@ struct RemoveTextureParams {
   /// Re-orient the input normals consistently (Hoppe MST) before filtering.
   bool reorient = false;
 
+  /// Neighbors facing away from p_i by more than this angle are on another
+  /// sheet of a thin part and leave R_i (drop_opposite_neighbors.h).
+  DropOppositeNeighborsParams sheets;
   DetectTextureParams texture;           ///< δ, confidence, RANSAC cap, seed (λ from above)
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
@@ -98,6 +112,7 @@ struct RemoveTextureReport {
   std::size_t normals_degenerate = 0;      ///< normals that could not be estimated (left zero)
   std::size_t normals_flipped = 0;         ///< by orientation
   double orientation_inconsistency = 0.0;  ///< of the normals fed to the filters
+  std::size_t opposite_neighbors = 0;      ///< (i, j) pairs dropped as another sheet
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;
   double ransac_mean_iterations = 0.0;
@@ -106,6 +121,9 @@ struct RemoveTextureReport {
   std::size_t update_isolated = 0;
   int update_iterations = 0;
   double mean_displacement = 0.0;
+  double texture_height = 0.0;   ///< 99th percentile of the texture points' heights above their fitted surfaces
+  double max_move = 0.0;         ///< the resulting move limit (0 = none)
+  std::size_t moves_limited = 0;  ///< points whose move was cut to it
   std::vector<StageTiming> timings;
 };
 

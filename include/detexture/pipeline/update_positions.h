@@ -64,6 +64,11 @@ struct UpdatePositionsParams {
   /// an iteration is below tolerance·σp. Global: conjugate gradients stop when
   /// the residual is below tolerance times the right-hand side (2-norms).
   double tolerance = 1e-3;
+  /// No point moves farther than this from its input position, in the
+  /// cloud's units; 0 = no limit. remove_texture sets it from the texture
+  /// height it found (see remove_texture.h), so that a point is never thrown
+  /// farther off than the texture could explain.
+  double max_move = 0.0;
 };
 
 struct UpdatePositionsResult {
@@ -71,6 +76,7 @@ struct UpdatePositionsResult {
   int iterations = 0;              ///< Global: CG steps; local modes: the most any point took
   std::size_t isolated = 0;        ///< points whose Ψ_i held only themselves: kept in place
   double mean_displacement = 0.0;  ///< mean |p' - p|, to judge how much was removed
+  std::size_t limited = 0;         ///< points whose move was cut to max_move
 };
 
 /// Fit positions to the filtered normals (#P by 3, unit, oriented). `is_texture`
