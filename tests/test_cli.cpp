@@ -270,6 +270,18 @@ TEST_F(Cli, NoTextureIsSaidAndTheFallbackRadiusUsed) {
   // The plane's diagonal is √2: the fallback 0.02 d = 0.0283 holds more than
   // 30 neighbors at 20000 points per unit area (π 0.0283² 20000 = 50).
   EXPECT_NEAR(number_after(stats, "\"radius\": "), 0.02 * std::sqrt(2.0), 1e-4) << stats;
+  // Too sparse for the analysis (the 7-neighbor case): the 41 x 41
+  // grid of spacing 0.025 falls back to the radius holding about 30
+  // neighbors, 0.025 √(30/π) = 0.077 (the estimated spacing is 0.991 of the
+  // grid's), not 0.02 d = 0.028 with its 5 neighbors.
+  write_point_cloud(path("grid.ply"), bumpy(true));
+  ASSERT_EQ(run(path("grid.ply") + " -o " + path("grid.out.ply") + " --stats " + path("g.json")), 0)
+      << stderr_;
+  const std::string grid = read_text(path("g.json"));
+  EXPECT_NEAR(number_after(grid, "\"radius\": "), 0.991 * 0.025 * std::sqrt(30.0 / M_PI), 1e-3)
+      << grid;
+  EXPECT_GT(number_after(grid, "\"neighbors_mean\": "), 25.0) << grid;
+  EXPECT_EQ(stderr_.find("neighbors per point on average"), std::string::npos) << stderr_;
 }
 
 TEST_F(Cli, WarnsWhenTheRadiusHoldsTooFewNeighbors) {

@@ -4,6 +4,7 @@
 #include "detexture/pipeline/estimate_texture_scale.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <random>
@@ -74,6 +75,12 @@ TEST(EstimateTextureScale, ScalesWithTheCloudAndIgnoresPointOrder) {
   const TextureScaleEstimate c = estimate_texture_scale(reversed, Normals());
   EXPECT_EQ(c.texture_radius, a.texture_radius);
   EXPECT_EQ(c.residual, a.residual);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const TextureScaleEstimate one = estimate_texture_scale(P, Normals());
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one.residual, a.residual) << "the same on any thread count";
+  EXPECT_EQ(one.texture_radius, a.texture_radius);
 }
 
 TEST(EstimateTextureScale, NoiseOfKnownSigmaIsNoiseNotTexture) {
