@@ -313,6 +313,8 @@ TEST_F(Cli, RefusesAHugeRadiusUnlessForced) {
   EXPECT_FALSE(fs::exists(path("out.ply")));
   EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 0.6 --force -q"), 0) << stderr_;
   EXPECT_TRUE(fs::exists(path("out.ply")));
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("capped.ply") + " -r 0.6 --max-neighbors 64 -q"), 0)
+      << "64 nearest kept: the neighborhoods stay small; " << stderr_;
 }
 
 // detexture render: a picture whose content is what was asked for, and the

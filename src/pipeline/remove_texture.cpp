@@ -183,7 +183,9 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                          "but has no texture to remove. Give -r to choose a scale yourself.");
   }
   if (!params.allow_large_radius) {
-    const double count = estimate_neighbor_count(P, rep.radius);
+    // A neighbor cap bounds what is kept (the k nearest), so it bounds this too.
+    double count = estimate_neighbor_count(P, rep.radius);
+    if (params.max_neighbors > 0) count = std::min(count, double(params.max_neighbors));
     const double share = count / static_cast<double>(n);
     if (share > params.max_neighbor_share || count > params.max_mean_neighbors)
       throw std::invalid_argument(

@@ -65,7 +65,8 @@ struct RemoveTextureParams {
   /// Refuse (throw std::invalid_argument before building the neighborhoods)
   /// when the mean neighborhood would hold more than this share of the
   /// cloud, or more than max_mean_neighbors points: memory and time grow as
-  /// r². Set allow_large_radius to run anyway.
+  /// r² (with max_neighbors set, the capped count is what is checked). Set
+  /// allow_large_radius to run anyway.
   double max_neighbor_share = 0.2;
   double max_mean_neighbors = 3000.0;
   bool allow_large_radius = false;
