@@ -227,7 +227,8 @@ TEST_F(Cli, ScaleReportPrintsTheEstimateAndWritesNothing) {
   const double texture = number_after(out, "texture ≈ ");
   EXPECT_GT(texture, 0.7 * 0.03) << out;
   EXPECT_LT(texture, 1.5 * 0.03) << out;
-  EXPECT_NEAR(number_after(out, "→ r = "), 1.5 * texture, 0.02 * texture) << out;
+  // texture is printed to 2 digits, r to 3.
+  EXPECT_NEAR(number_after(out, "→ r = "), 1.5 * texture, 0.05 * texture) << out;
   EXPECT_NE(out.find("spacing"), std::string::npos);
   EXPECT_NE(out.find("residual RMS"), std::string::npos) << "the curve behind the estimate";
   std::size_t files = 0;

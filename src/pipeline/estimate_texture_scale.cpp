@@ -245,9 +245,16 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   const std::size_t jmax =
       static_cast<std::size_t>(std::max_element(T.begin(), T.end()) - T.begin());
   const double tmax = T[jmax];
+  // The radius is read on the peak-to-valley relief G (above its value at the
+  // smallest radius, the noise's), which reaches its full height as soon as
+  // a neighborhood spans a whole feature; the RMS T decides whether there is
+  // texture at all.
+  std::vector<double> G(J);
+  for (std::size_t j = 0; j < J; ++j) G[j] = std::max(0.0, est.relief[j] - est.relief[0]);
+  const double gmax = *std::max_element(G.begin(), G.end());
   std::size_t jr = 0;
-  while (jr < J && T[jr] < params.rise_fraction * tmax) ++jr;
-  const double read = crossing(est.radii, T, std::min(jr, J - 1), params.rise_fraction * tmax);
+  while (jr < J && G[jr] < params.rise_fraction * gmax) ++jr;
+  const double read = crossing(est.radii, G, std::min(jr, J - 1), params.rise_fraction * gmax);
   const double R = params.radius_calibration * read;
   if (!(tmax > params.min_relief * read) || !(tmax > params.min_noise_ratio * est.noise)) {
     est.reason = "no texture found: the relief above local quadrics stays below " +
@@ -267,7 +274,7 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   }
   est.texture_found = true;
   est.texture_radius = R;
-  est.texture_height = est.relief[jmax];
+  est.texture_height = G[jmax];
   est.reason = "relief above local quadrics grows up to radius " + text(read) +
                " and levels off at " + text(tmax) + " RMS";
   return est;

@@ -205,7 +205,10 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     R = radius_neighborhoods(P, {rep.radius, params.max_neighbors}, clock.progress());
     rep.neighbors = neighborhood_stats(R, 3);
   }
-  if (rep.neighbors.mean < params.min_mean_neighbors)
+  // (Not when a cap below the threshold is what keeps the neighborhoods small.)
+  const bool capped_small =
+      params.max_neighbors > 0 && params.max_neighbors < params.min_mean_neighbors;
+  if (rep.neighbors.mean < params.min_mean_neighbors && !capped_small)
     warn(observer,
          "r = " + number_text(rep.radius) + " holds only " +
              number_text(std::round(rep.neighbors.mean * 10.0) / 10.0) +
