@@ -236,6 +236,19 @@ TEST_F(Cli, ScaleReportPrintsTheEstimateAndWritesNothing) {
   EXPECT_EQ(files, 2u) << "only the synth files: nothing written";
 }
 
+TEST_F(Cli, ScaleReportOnTheBundledExample) {
+  // Cells of radius 0.025 with both signs (examples/README.md): same-sign
+  // neighbors join into larger areas, and the estimate reads 0.042.
+  ASSERT_EQ(run(std::string(DETEXTURE_SOURCE_DIR) + "/examples/textured_cube.ply --scale-report"),
+            0)
+      << stderr_;
+  const std::string out = read_text(path("stdout.txt"));
+  const double texture = number_after(out, "texture ≈ ");
+  EXPECT_GT(texture, 0.7 * 0.025) << out;
+  EXPECT_LT(texture, 2.0 * 0.025) << out;
+  EXPECT_NE(out.find("100000 points"), std::string::npos) << out;
+}
+
 TEST_F(Cli, AutoRadiusIsTheDefaultAndAnExplicitRadiusWins) {
   ASSERT_EQ(run("synth --shape plane --texture domes --size 0.03 --amplitude 0.01 -n 40000 "
                 "--ground-truth-points 10 -o " +
