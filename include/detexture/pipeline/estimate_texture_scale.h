@@ -31,14 +31,13 @@
 //     (both set on `detexture synth` shapes of known R,
 //     bench/scale_estimate.py --calibration). The texture height is G at
 //     the radius where T is largest.
-//  4. No texture: when T never exceeds `min_relief` × the radius at which
-//     it is read (relief flatter than that slope is not texture worth
-//     removing), nor `min_noise_ratio` × σ (not distinguishable from noise),
-//     or when T still grows faster than r^`max_end_slope` at the largest
-//     radii: a base that a quadric cannot follow (a tube as thin as r, the
-//     limbs of a body) gives residuals growing as r^3-r^4, texture levels
-//     off (measured: untextured curved shapes 2.8-4.3, textured ones at most
-//     2.2, bench/scale_estimate).
+//  4. No texture: when the largest T is at most `min_relief` × the radius
+//     at which it is read (relief flatter than that slope is not texture
+//     worth removing), or at most `min_noise_ratio` × σ (not
+//     distinguishable from noise), or when T still grows faster than r^`max_end_slope` at the
+//     largest radii: a base that a quadric cannot follow (a tube as thin as r, the limbs of a body)
+//     gives residuals growing as r^3-r^4, texture levels off (measured: untextured curved
+//     shapes 2.8-4.3, textured ones at most 2.2, bench/scale_estimate).
 //
 // The samples are the m points with the smallest hash of (seed, their
 // coordinates), so the estimate is deterministic and does not depend on the
@@ -86,7 +85,9 @@ void validate(const EstimateTextureScaleParams& params);
 struct TextureScaleEstimate {
   std::size_t samples = 0;  ///< points actually sampled
   double spacing = 0.0;     ///< s, in the cloud's units (1/√density)
-  double noise = 0.0;       ///< σ: RMS residual at the smallest radius
+  /// σ: RMS residual at the smallest radius (3 spacings): the noise, plus
+  /// any texture finer than that (an upper bound of the noise).
+  double noise = 0.0;
   bool texture_found = false;
   double texture_radius = 0.0;   ///< R, the feature radius (as `synth --size`); 0 if none
   double texture_height = 0.0;   ///< peak-to-valley relief at the saturated radius; 0 if none
