@@ -112,6 +112,61 @@ void set_property(PointCloud& cloud, const std::string& name, ScalarType type, c
   prop->values.assign(values.begin(), values.end());
 }
 
+std::string json_text(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+// One line: what the scale estimate found and how r was chosen.
+std::string scale_line(const RemoveTextureReport& r) {
+  char buf[256] = "";
+  if (r.scale_estimated && r.scale.texture_found)
+    std::snprintf(buf, sizeof buf,
+                  "texture ≈ %.2g (radius), height ≈ %.2g, spacing %.2g, noise %.2g → r = %.3g "
+                  "(%s)",
+                  r.scale.texture_radius, r.scale.texture_height, r.scale.spacing, r.scale.noise,
+                  r.radius, r.radius_reason.c_str());
+  else if (r.scale_estimated)
+    std::snprintf(buf, sizeof buf, "no texture found, spacing %.2g, noise %.2g → r = %.3g (%s)",
+                  r.scale.spacing, r.scale.noise, r.radius, r.radius_reason.c_str());
+  else
+    std::snprintf(buf, sizeof buf, "r = %.3g (%s)", r.radius, r.radius_reason.c_str());
+  return buf;
+}
+
+// --scale-report: the estimate, the r it gives, and the residual curve behind it.
+int print_scale_report(const std::string& input, FileFormat format,
+                       const RemoveTextureParams& params) {
+  PointCloud cloud;
+  try {
+    cloud = read_point_cloud(input, format);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+  RemoveTextureReport r;
+  r.diagonal = bounding_box_diagonal(cloud.positions);
+  r.scale = estimate_texture_scale(cloud.positions, cloud.normals, params.scale);
+  r.scale_estimated = true;
+  RemoveTextureParams auto_params = params;
+  if (auto_params.radius.unit != Length::Unit::Texture)
+    auto_params.radius = RemoveTextureParams().radius;
+  const RadiusChoice c = choose_radius(auto_params, r.diagonal, r.scale);
+  r.radius = c.radius;
+  r.radius_reason = c.reason;
+  std::printf("%s: %zu points, bounding-box diagonal d = %g\n%s\n", input.c_str(), cloud.size(),
+              r.diagonal, scale_line(r).c_str());
+  if (!r.scale.texture_found) std::printf("%s\n", r.scale.reason.c_str());
+  std::printf("radius      residual RMS  relief (peak-to-valley), median of %zu samples\n",
+              r.scale.samples);
+  for (std::size_t j = 0; j < r.scale.radii.size(); ++j)
+    std::printf("%-11.4g %-13.4g %.4g\n", r.scale.radii[j], r.scale.residual[j], r.scale.relief[j]);
+  return kExitOk;
+}
+
 // The --stats file: flat JSON, one key per figure, stage times under "seconds".
 void write_stats(const std::string& path, std::size_t points, const RemoveTextureReport& r,
                  double read_s, double write_s, double peak_mib) {
@@ -123,6 +178,16 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   std::fprintf(f, "  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n",
                r.diagonal, r.radius, r.lambda);
   std::fprintf(f, "  \"sigma_s\": %.17g,\n  \"sigma_p\": %.17g,\n", r.sigma_s, r.sigma_p);
+  std::fprintf(f, "  \"radius_choice\": \"%s\",\n  \"radius_reason\": \"%s\",\n",
+               r.radius_choice.c_str(), json_text(r.radius_reason).c_str());
+  if (r.scale_estimated)
+    std::fprintf(f,
+                 "  \"scale\": {\"texture_found\": %s, \"texture_radius\": %.6g, "
+                 "\"texture_height\": %.6g, \"spacing\": %.6g, \"noise\": %.6g, "
+                 "\"samples\": %zu, \"reason\": \"%s\"},\n",
+                 r.scale.texture_found ? "true" : "false", r.scale.texture_radius,
+                 r.scale.texture_height, r.scale.spacing, r.scale.noise, r.scale.samples,
+                 json_text(r.scale.reason).c_str());
   std::fprintf(
       f, "  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
@@ -162,18 +227,26 @@ int run_detexture(int argc, char** argv) {
   app.get_formatter()->column_width(34);
   app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
       ->required();
-  app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...)")->required();
+  app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...); required");
   app.add_option("--input-format", format_in, "Input format: auto (by extension), ply, xyz")
       ->capture_default_str();
   app.add_option("--output-format", format_out, "Output format: auto (by extension), ply, xyz")
       ->capture_default_str();
   app.add_option("--encoding", encoding, "PLY output: binary, ascii, binary-big-endian")
       ->capture_default_str();
-  app.add_flag("-f,--force", force, "Overwrite OUTPUT if it exists");
+  app.add_flag("-f,--force", force,
+               "Overwrite OUTPUT if it exists; run even when r would put a large share of the "
+               "cloud in every neighborhood");
 
   add_length(app, "-r,--radius", params.radius,
-             "r: neighborhood radius. About the size of the largest texture feature you want "
-             "gone; larger also blurs more of the shape.");
+             "r: neighborhood radius (a radius, not a diameter), e.g. -r 0.05 or -r 0.03d. "
+             "By default 1.5 × the texture radius estimated from the cloud (1.5t; see "
+             "--scale-report); give it to override: about 1.5 × the radius of the largest "
+             "texture feature you want gone; larger also blurs more of the shape.");
+  bool scale_report = false;
+  app.add_flag("--scale-report", scale_report,
+               "Print the estimated point spacing, noise and texture size, and the r auto mode "
+               "would choose, then exit without filtering (no -o needed)");
   add_length(app, "--lambda", params.lambda,
              "λ: RANSAC distance threshold (Eq. 2). Relief lower than λ counts as underlying "
              "surface; must exceed the noise");
@@ -321,6 +394,7 @@ int run_detexture(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    if (output.empty() && !scale_report) throw CLI::RequiredError("--output");
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
@@ -332,6 +406,7 @@ int run_detexture(int argc, char** argv) {
     if (no_subneighborhood) params.rolling.use_subneighborhood = false;
     params.rolling.guidance.blend = !no_blend;
     if (paper_rolling_neighborhood) params.rolling.use_subneighborhood = false;
+    params.allow_large_radius = force;
     validate(params);
     if (threads > 0) omp_set_num_threads(threads);
     const FileFormat in_format = parse_file_format(format_in);
@@ -347,6 +422,7 @@ int run_detexture(int argc, char** argv) {
       write_options.encoding = PlyEncoding::BinaryBigEndian;
     else
       throw std::invalid_argument("--encoding must be binary, ascii or binary-big-endian");
+    if (scale_report) return print_scale_report(input, in_format, params);
     // Check the outputs before the work, so a long run does not end in a refusal.
     for (const std::string& path : {output, texture_layer}) {
       if (path.empty()) continue;
@@ -423,13 +499,14 @@ int run_detexture(int argc, char** argv) {
       std::fprintf(stderr,
                    "wrote %s\n"
                    "summary: %zu points, bounding-box diagonal d = %g\n"
+                   "  %s\n"
                    "  r = %g, λ = %g, σs = %g, σr = %g°, δ = %g, σp = %g\n"
                    "  neighbors per point: mean %.1f, min %zu, max %zu\n"
                    "  texture points (Eq. 2): %zu (%.1f%%); RANSAC tries per point %.1f\n"
                    "  rolling iterations: %d; position update: %d iterations, mean move %g\n",
-                   output.c_str(), cloud.size(), r.diagonal, r.radius, r.lambda, r.sigma_s,
-                   params.rolling.sigma_r_deg, params.texture.delta, r.sigma_p, r.neighbors.mean,
-                   r.neighbors.min, r.neighbors.max, r.texture_points,
+                   output.c_str(), cloud.size(), r.diagonal, scale_line(r).c_str(), r.radius,
+                   r.lambda, r.sigma_s, params.rolling.sigma_r_deg, params.texture.delta, r.sigma_p,
+                   r.neighbors.mean, r.neighbors.min, r.neighbors.max, r.texture_points,
                    100.0 * r.texture_points / cloud.size(), r.ransac_mean_iterations,
                    r.rolling_iterations, r.update_iterations, r.mean_displacement);
       if (r.moves_limited > 0)

@@ -13,9 +13,13 @@
 namespace detexture {
 
 Length parse_length(const std::string& text) {
+  if (text == "auto") return {1.5, Length::Unit::Texture};
   std::string number = text;
   Length::Unit unit = Length::Unit::Absolute;
-  if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
+  if (!number.empty() && (number.back() == 't' || number.back() == 'T')) {
+    unit = Length::Unit::Texture;
+    number.pop_back();
+  } else if (!number.empty() && (number.back() == 'd' || number.back() == 'D')) {
     unit = Length::Unit::Diagonal;
     number.pop_back();
   } else if (!number.empty() && (number.back() == 'r' || number.back() == 'R')) {
@@ -28,15 +32,17 @@ Length parse_length(const std::string& text) {
     throw std::invalid_argument("'" + text +
                                 "' is not a length: give a number in the cloud's units, a "
                                 "fraction of the bounding-box diagonal such as 0.02d, or a "
-                                "multiple of the radius r such as 0.5r");
+                                "multiple of the radius r such as 0.5r (for r itself: 'auto', or "
+                                "a multiple of the estimated texture radius such as 1.5t)");
   if (!(value > 0.0)) throw std::invalid_argument("length '" + text + "' must be positive");
   return {value, unit};
 }
 
 std::string to_string(const Length& length) {
-  const char* suffix = length.unit == Length::Unit::Diagonal ? "d"
-                       : length.unit == Length::Unit::Radius ? "r"
-                                                             : "";
+  const char* suffix = length.unit == Length::Unit::Diagonal  ? "d"
+                       : length.unit == Length::Unit::Radius  ? "r"
+                       : length.unit == Length::Unit::Texture ? "t"
+                                                              : "";
   return number_text(length.value) + suffix;
 }
 
@@ -52,8 +58,27 @@ void validate(const RemoveTextureParams& p) {
                                   to_string(len));
   if (p.radius.unit == Length::Unit::Radius)
     throw std::invalid_argument(
-        "the radius r cannot be given in units of itself; use 0.02d or "
+        "the radius r cannot be given in units of itself; use auto, 0.02d or "
         "a length in the cloud's units");
+  for (const auto& [name, len] : {std::pair<const char*, Length>{"lambda", p.lambda},
+                                  {"sigma_s", p.sigma_s},
+                                  {"sigma_p", p.sigma_p},
+                                  {"solve radius", p.solve_radius},
+                                  {"fallback radius", p.fallback_radius}})
+    if (len.unit == Length::Unit::Texture)
+      throw std::invalid_argument(std::string(name) +
+                                  " cannot be a multiple of the texture radius; only r can (give "
+                                  "it in units of r, such as 0.5r)");
+  if (p.fallback_radius.unit == Length::Unit::Radius || !(p.fallback_radius.value > 0.0))
+    throw std::invalid_argument(
+        "the fallback radius must be a positive length in the cloud's "
+        "units or of the diagonal");
+  if (!(p.fallback_neighbors >= 3.0) || !std::isfinite(p.fallback_neighbors))
+    throw std::invalid_argument("the fallback radius needs at least 3 neighbors");
+  if (!(p.max_neighbor_share > 0.0) || !(p.max_mean_neighbors > 0.0) ||
+      !(p.min_mean_neighbors >= 0.0))
+    throw std::invalid_argument("the neighborhood size limits must be positive");
+  if (p.radius.unit == Length::Unit::Texture) validate(p.scale);
   if (p.max_neighbors < 0) throw std::invalid_argument("the neighbor cap cannot be negative");
   if (p.max_neighbors > 0 && p.max_neighbors < 3)
     throw std::invalid_argument("a neighbor cap below 3 leaves no plane to fit; use 0 or >= 3");
@@ -75,6 +100,30 @@ void validate(const RemoveTextureParams& p) {
   u.sigma_p = 1.0;
   u.solve_radius = 1.0;
   validate(u);
+}
+
+RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
+                           const TextureScaleEstimate& scale) {
+  RadiusChoice c;
+  if (params.radius.unit != Length::Unit::Texture) {
+    c.radius = params.radius.resolve(diagonal, 0.0);
+    c.choice = "given";
+    c.reason = "given as " + to_string(params.radius);
+  } else if (scale.texture_found) {
+    c.radius = params.radius.value * scale.texture_radius;
+    c.choice = "texture";
+    c.reason = number_text(params.radius.value) + " × texture radius";
+  } else {
+    const double base = params.fallback_radius.resolve(diagonal, 0.0);
+    const double dense = scale.spacing * std::sqrt(params.fallback_neighbors / M_PI);
+    c.radius = std::max(base, dense);
+    c.choice = "fallback";
+    c.reason = "no texture: fallback " +
+               (dense > base ? "radius holding about " + number_text(params.fallback_neighbors) +
+                                   " neighbors, more than " + to_string(params.fallback_radius)
+                             : to_string(params.fallback_radius));
+  }
+  return c;
 }
 
 namespace {
@@ -124,7 +173,34 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   rep.diagonal = bounding_box_diagonal(P);
   if (!(rep.diagonal > 0.0))
     throw std::invalid_argument("all points coincide: the cloud has no extent to filter");
-  rep.radius = params.radius.resolve(rep.diagonal, 0.0);
+  if (params.radius.unit == Length::Unit::Texture) {
+    StageClock clock(observer, rep, "estimate scale");
+    rep.scale = estimate_texture_scale(P, normals, params.scale);
+    rep.scale_estimated = true;
+  }
+  {
+    const RadiusChoice choice = choose_radius(params, rep.diagonal, rep.scale);
+    rep.radius = choice.radius;
+    rep.radius_choice = choice.choice;
+    rep.radius_reason = choice.reason;
+    if (choice.choice == "fallback")
+      warn(observer, rep.scale.reason + "; r = " + number_text(rep.radius) +
+                         " (the fallback) is used: the run smooths the surface at that scale "
+                         "but has no texture to remove. Give -r to choose a scale yourself.");
+  }
+  if (!params.allow_large_radius) {
+    // A neighbor cap bounds what is kept (the k nearest), so it bounds this too.
+    double count = estimate_neighbor_count(P, rep.radius);
+    if (params.max_neighbors > 0) count = std::min(count, double(params.max_neighbors));
+    const double share = count / static_cast<double>(n);
+    if (share > params.max_neighbor_share || count > params.max_mean_neighbors)
+      throw std::invalid_argument(
+          "r = " + number_text(rep.radius) + " would put about " + number_text(std::round(count)) +
+          " points (" + number_text(std::round(100.0 * share)) +
+          "% of the cloud) in every neighborhood; memory and time grow as r², and a "
+          "neighborhood that large filters the shape itself. Choose a smaller r, or force the "
+          "run (--force on the command line)");
+  }
   rep.lambda = params.lambda.resolve(rep.diagonal, rep.radius);
   rep.sigma_s = params.sigma_s.resolve(rep.diagonal, rep.radius);
   rep.sigma_p = params.sigma_p.resolve(rep.diagonal, rep.radius);
@@ -135,6 +211,17 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     R = radius_neighborhoods(P, {rep.radius, params.max_neighbors}, clock.progress());
     rep.neighbors = neighborhood_stats(R, 3);
   }
+  // (Not when a cap below the threshold is what keeps the neighborhoods small.)
+  const bool capped_small =
+      params.max_neighbors > 0 && params.max_neighbors < params.min_mean_neighbors;
+  if (rep.neighbors.mean < params.min_mean_neighbors && !capped_small)
+    warn(observer,
+         "r = " + number_text(rep.radius) + " holds only " +
+             number_text(std::round(rep.neighbors.mean * 10.0) / 10.0) +
+             " neighbors per point on average, too few to tell texture from surface; "
+             "r = " +
+             number_text(rep.radius * std::sqrt(30.0 / std::max(rep.neighbors.mean, 1.0))) +
+             " would hold about 30.");
   if (rep.neighbors.sparse_points > 0)
     warn(observer, std::to_string(rep.neighbors.sparse_points) +
                        " points have fewer than 3 neighbors within r; they keep their input "

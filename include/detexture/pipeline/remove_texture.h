@@ -16,6 +16,7 @@
 #include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
+#include "detexture/pipeline/estimate_texture_scale.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/update_positions.h"
@@ -24,13 +25,16 @@
 namespace detexture {
 
 /// A length given in the cloud's units ("0.5"), as a fraction of the
-/// bounding-box diagonal d ("0.02d"), or as a multiple of the neighborhood
-/// radius r ("0.5r"; not for r itself).
+/// bounding-box diagonal d ("0.02d"), as a multiple of the neighborhood
+/// radius r ("0.5r"; not for r itself), or, for r alone, as a multiple of
+/// the texture radius estimated by estimate_texture_scale ("1.5t"; "auto" is
+/// 1.5t).
 struct Length {
-  enum class Unit { Absolute, Diagonal, Radius };
+  enum class Unit { Absolute, Diagonal, Radius, Texture };
   double value = 0.0;
   Unit unit = Unit::Absolute;
-  /// The length in the cloud's units, given d and the resolved r.
+  /// The length in the cloud's units, given d and the resolved r (Texture
+  /// lengths are resolved by remove_texture, not here).
   double resolve(double diagonal, double radius) const {
     return unit == Unit::Diagonal ? value * diagonal
            : unit == Unit::Radius ? value * radius
@@ -38,7 +42,7 @@ struct Length {
   }
 };
 
-/// Parse "0.5", "0.02d" or "0.5r"; throws std::invalid_argument with a
+/// Parse "0.5", "0.02d", "0.5r", "1.5t" or "auto" (= 1.5t); throws std::invalid_argument with a
 /// sentence for anything else or a non-positive value.
 Length parse_length(const std::string& text);
 std::string to_string(const Length& length);
@@ -48,9 +52,28 @@ std::string to_string(const Length& length);
 /// setting r alone rescales the whole method. The stage structs' own length
 /// fields are ignored and filled from these.
 struct RemoveTextureParams {
-  /// r: radius of the neighborhoods R_i. Roughly the size of the largest
-  /// texture feature you want gone.
-  Length radius{0.02, Length::Unit::Diagonal};
+  /// r: radius (not diameter) of the neighborhoods R_i. By default 1.5 × the
+  /// texture radius R that estimate_texture_scale finds (the rule the
+  /// benchmarks use: r = 1.5 R); when it finds no texture, `fallback_radius`.
+  /// An explicit length ("0.05", "0.02d") skips the estimate.
+  Length radius{1.5, Length::Unit::Texture};
+  /// r when the radius is a multiple of the texture radius but no texture is
+  /// found: 0.02 d, raised to give at least `fallback_neighbors` neighbors.
+  Length fallback_radius{0.02, Length::Unit::Diagonal};
+  double fallback_neighbors = 30.0;  ///< see fallback_radius; >= 3
+  /// Texture-scale estimate used when r is in units of the texture radius.
+  EstimateTextureScaleParams scale;
+  /// Refuse (throw std::invalid_argument before building the neighborhoods)
+  /// when the mean neighborhood would hold more than this share of the
+  /// cloud, or more than max_mean_neighbors points: memory and time grow as
+  /// r² (with max_neighbors set, the capped count is what is checked). Set
+  /// allow_large_radius to run anyway.
+  double max_neighbor_share = 0.2;
+  double max_mean_neighbors = 3000.0;
+  bool allow_large_radius = false;
+  /// Warn when r holds fewer neighbors than this on average (and say which r
+  /// would hold 30).
+  double min_mean_neighbors = 10.0;
   /// λ: RANSAC distance threshold (Eq. 2). Bumps lower than λ count as surface.
   Length lambda{0.05, Length::Unit::Radius};
   /// Quadric underlying surface (Eq. 2, see detect_texture.h): the tightest
@@ -89,6 +112,18 @@ struct RemoveTextureParams {
 /// Check every parameter; throws std::invalid_argument naming the bad one.
 void validate(const RemoveTextureParams& params);
 
+/// How r follows from the parameters, the diagonal d and (when r is a
+/// multiple of the texture radius) the scale estimate: choice is "given",
+/// "texture" or "fallback" (no texture found: the larger of fallback_radius
+/// and the radius holding fallback_neighbors on a surface of the estimated
+/// spacing s, s √(n/π)); reason says it in words.
+struct RadiusChoice {
+  double radius = 0.0;
+  std::string choice, reason;
+};
+RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
+                           const TextureScaleEstimate& scale);
+
 /// Callbacks for long work; any may be empty. Called from the calling thread
 /// or, for progress, from one worker at a time.
 struct PipelineObserver {
@@ -105,6 +140,12 @@ struct StageTiming {
 
 struct RemoveTextureReport {
   double diagonal = 0.0;
+  /// How r was chosen: "given" (an explicit length), "texture" (a multiple
+  /// of the estimated texture radius) or "fallback" (no texture found).
+  std::string radius_choice;
+  std::string radius_reason;     ///< a sentence saying why r is what it is
+  bool scale_estimated = false;  ///< `scale` holds an estimate
+  TextureScaleEstimate scale;
   double radius = 0.0, lambda = 0.0, sigma_s = 0.0, sigma_p = 0.0;  ///< resolved lengths
   NeighborhoodStats neighbors;  ///< of R_i; sparse = fewer than 3 neighbors
   bool normals_estimated = false;

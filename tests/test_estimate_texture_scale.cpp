@@ -1,0 +1,180 @@
+// estimate_texture_scale: spacing, noise and texture size on clouds whose
+// answers are known: grids, an egg-crate of known feature radius, noise of
+// known σ, a synthesized cube with bumps, untextured curved shapes.
+#include "detexture/pipeline/estimate_texture_scale.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <random>
+
+#include "detexture/eval/synthesize_shape.h"
+#include "detexture/pipeline/remove_texture.h"
+
+namespace detexture {
+namespace {
+
+// A side x side grid of spacing h in z = 0, plus height(x, y).
+template <class F>
+Positions grid(int side, double h, F height) {
+  Positions P(side * side, 3);
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) {
+      const double x = a * h, y = b * h;
+      P.row(a * side + b) << x, y, height(x, y);
+    }
+  return P;
+}
+
+TEST(EstimateTextureScale, SpacingOfAGridAndNoTextureOnAPlane) {
+  // On a grid the 16th neighbor is at √5 h, and √5 h √(π/16) = 0.991 h.
+  const double h = 0.005;
+  const Positions P = grid(200, h, [](double, double) { return 0.0; });
+  const TextureScaleEstimate e = estimate_texture_scale(P, Normals());
+  EXPECT_NEAR(e.spacing, std::sqrt(5.0 * M_PI / 16.0) * h, 1e-9);
+  EXPECT_FALSE(e.texture_found) << e.reason;
+  EXPECT_EQ(e.noise, 0.0);
+  EXPECT_NE(e.reason.find("no texture"), std::string::npos) << e.reason;
+  ASSERT_EQ(e.radii.size(), 14u);
+  EXPECT_NEAR(e.radii.front(), 3.0 * e.spacing, 1e-12);
+  EXPECT_NEAR(e.radii.back(), 0.06 * bounding_box_diagonal(P), 1e-12);
+}
+
+// An egg-crate h = A cos(πx/2R) cos(πy/2R): domes and dimples filling
+// squares of side 2R (radius R), touching at their corners.
+Positions egg_crate(double R, double A) {
+  return grid(250, 0.004, [&](double x, double y) {
+    return A * std::cos(M_PI * x / (2 * R)) * std::cos(M_PI * y / (2 * R));
+  });
+}
+
+TEST(EstimateTextureScale, FindsTheRadiusOfAnEggCrate) {
+  for (const double R : {0.03, 0.05}) {
+    const TextureScaleEstimate e = estimate_texture_scale(egg_crate(R, 0.3 * R), Normals());
+    ASSERT_TRUE(e.texture_found) << "R = " << R << ": " << e.reason;
+    EXPECT_GT(e.texture_radius, 0.7 * R) << R;
+    EXPECT_LT(e.texture_radius, 1.5 * R) << R;
+    // Peak to valley of the egg-crate is 2A; the median neighborhood sees most
+    // of it (a little more: the fitted quadric tilts and bends).
+    EXPECT_GT(e.texture_height, 0.3 * R) << R;
+    EXPECT_LT(e.texture_height, 1.2 * 2.0 * 0.3 * R) << R;
+  }
+}
+
+TEST(EstimateTextureScale, ScalesWithTheCloudAndIgnoresPointOrder) {
+  const Positions P = egg_crate(0.03, 0.01);
+  const TextureScaleEstimate a = estimate_texture_scale(P, Normals());
+  const TextureScaleEstimate b = estimate_texture_scale(P * 2.0, Normals());
+  ASSERT_TRUE(a.texture_found);
+  ASSERT_TRUE(b.texture_found);
+  // Other coordinates hash to other samples: equal up to sampling.
+  EXPECT_NEAR(b.texture_radius, 2.0 * a.texture_radius, 0.03 * a.texture_radius);
+  EXPECT_NEAR(b.spacing, 2.0 * a.spacing, 1e-12);
+  Positions reversed = P.colwise().reverse();
+  const TextureScaleEstimate c = estimate_texture_scale(reversed, Normals());
+  EXPECT_EQ(c.texture_radius, a.texture_radius);
+  EXPECT_EQ(c.residual, a.residual);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const TextureScaleEstimate one = estimate_texture_scale(P, Normals());
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one.residual, a.residual) << "the same on any thread count";
+  EXPECT_EQ(one.texture_radius, a.texture_radius);
+}
+
+TEST(EstimateTextureScale, NoiseOfKnownSigmaIsNoiseNotTexture) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const double sigma = 0.0005;
+  Positions P = grid(200, 0.005, [](double, double) { return 0.0; });
+  for (Eigen::Index i = 0; i < P.rows(); ++i) P(i, 2) = sigma * gauss(rng);
+  const TextureScaleEstimate e = estimate_texture_scale(P, Normals());
+  EXPECT_FALSE(e.texture_found) << e.reason;
+  // The RMS residual, corrected for the 6 fitted parameters, estimates σ.
+  EXPECT_NEAR(e.noise, sigma, 0.15 * sigma);
+  for (double r : e.residual) EXPECT_NEAR(r, sigma, 0.15 * sigma);
+}
+
+TEST(EstimateTextureScale, BumpsOnACubeAndPlainCurvedShapes) {
+  SynthParams sp;
+  sp.shape = BaseShape::Cube;
+  sp.texture = TextureKind::Bumps;
+  sp.size = 0.04;
+  sp.amplitude = 0.014;
+  sp.points = 60000;
+  sp.ground_truth_points = 10;
+  SynthesizedShape s = synthesize_shape(sp);
+  const TextureScaleEstimate e = estimate_texture_scale(s.positions, s.normals);
+  ASSERT_TRUE(e.texture_found) << e.reason;
+  EXPECT_GT(e.texture_radius, 0.7 * sp.size);
+  EXPECT_LT(e.texture_radius, 1.5 * sp.size);
+  // A cube of 60000 points: 10^4 per unit face, spacing 0.01.
+  EXPECT_NEAR(e.spacing, 0.01, 0.001);
+  // The same shapes untextured: a quadric follows a sphere; the torus and
+  // the knot's thin tube are curved beyond a quadric at the largest radii,
+  // which must not read as texture.
+  for (const BaseShape shape :
+       {BaseShape::Cube, BaseShape::Sphere, BaseShape::Torus, BaseShape::Knot}) {
+    sp.shape = shape;
+    sp.texture = TextureKind::None;
+    s = synthesize_shape(sp);
+    const TextureScaleEstimate none = estimate_texture_scale(s.positions, Normals());
+    EXPECT_FALSE(none.texture_found) << base_shape_name(shape) << ": " << none.texture_radius;
+  }
+}
+
+TEST(EstimateTextureScale, TooFewPointsIsNoTextureWithAReason) {
+  const Positions P = grid(4, 0.1, [](double, double) { return 0.0; });
+  const TextureScaleEstimate e = estimate_texture_scale(P, Normals());
+  EXPECT_FALSE(e.texture_found);
+  EXPECT_NE(e.reason.find("too few"), std::string::npos) << e.reason;
+  EstimateTextureScaleParams bad;
+  bad.samples = 3;
+  EXPECT_THROW(estimate_texture_scale(P, Normals(), bad), std::invalid_argument);
+}
+
+TEST(EstimateNeighborCount, CountsCoincidentClusters) {
+  // Two clusters of 100 coincident points, far apart: every point has 100
+  // points within any radius below the gap.
+  Positions P(200, 3);
+  for (int i = 0; i < 200; ++i) P.row(i) << (i < 100 ? 0.0 : 10.0), 0.0, 0.0;
+  EXPECT_DOUBLE_EQ(estimate_neighbor_count(P, 1.0), 100.0);
+  EXPECT_DOUBLE_EQ(estimate_neighbor_count(P, 20.0), 200.0);
+}
+
+TEST(ChooseRadius, FollowsTheTextureOrFallsBack) {
+  RemoveTextureParams p;  // r = 1.5t by default
+  EXPECT_EQ(p.radius.unit, Length::Unit::Texture);
+  TextureScaleEstimate e;
+  e.texture_found = true;
+  e.texture_radius = 0.03;
+  e.spacing = 0.002;
+  RadiusChoice c = choose_radius(p, 1.0, e);
+  EXPECT_DOUBLE_EQ(c.radius, 0.045);
+  EXPECT_EQ(c.choice, "texture");
+  // No texture: the larger of 0.02 d and the radius holding 30 neighbors, s √(30/π).
+  e.texture_found = false;
+  c = choose_radius(p, 1.0, e);
+  EXPECT_DOUBLE_EQ(c.radius, 0.02);
+  EXPECT_EQ(c.choice, "fallback");
+  e.spacing = 0.01;
+  EXPECT_DOUBLE_EQ(choose_radius(p, 1.0, e).radius, 0.01 * std::sqrt(30.0 / M_PI));
+  p.radius = parse_length("0.05");
+  c = choose_radius(p, 1.0, e);
+  EXPECT_DOUBLE_EQ(c.radius, 0.05);
+  EXPECT_EQ(c.choice, "given");
+}
+
+TEST(Length, TextureRadiusUnits) {
+  EXPECT_EQ(parse_length("auto").unit, Length::Unit::Texture);
+  EXPECT_DOUBLE_EQ(parse_length("auto").value, 1.5);
+  EXPECT_DOUBLE_EQ(parse_length("2t").value, 2.0);
+  EXPECT_EQ(to_string(parse_length("2t")), "2t");
+  RemoveTextureParams p;
+  p.lambda = parse_length("0.1t");
+  EXPECT_THROW(validate(p), std::invalid_argument) << "only r can follow the texture";
+}
+
+}  // namespace
+}  // namespace detexture
