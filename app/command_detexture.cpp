@@ -269,9 +269,9 @@ int run_detexture(int argc, char** argv) {
                "Leave out every neighbor past --sheet-angle, not only those back to back "
                "with the point (across a thin part)");
   app.add_option("--sheet-angle", params.sheets.max_angle_deg,
-                 "Neighbors whose normal differs from the point's by more than this (degrees) "
-                 "are on the other side of a thin part and are left out of R_i; 180 keeps all "
-                 "(the paper)")
+                 "Neighbors back to back with the point (across a thin part or a convex "
+                 "crease) whose normal differs from its normal by more than this (degrees) "
+                 "are left out of R_i; 180 keeps all (the paper)")
       ->capture_default_str();
   std::map<std::string, UnderlyingSurface> surfaces{{"plane", UnderlyingSurface::Plane},
                                                     {"quadric", UnderlyingSurface::Quadric}};

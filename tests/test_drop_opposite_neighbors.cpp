@@ -10,7 +10,8 @@ namespace detexture {
 namespace {
 
 // Two sheets 0.02 apart facing away from each other (a thin plate): within
-// r = 0.05 every point sees both, and only its own sheet must stay.
+// r = 0.05 every point sees both, and only its own sheet must stay (normals
+// 180° apart, each sheet behind the other).
 struct Plate {
   Positions P;
   Normals N;
@@ -51,14 +52,31 @@ TEST(DropOppositeNeighbors, KeepsOnlyTheOwnSheetOfAThinPlate) {
   EXPECT_TRUE(R.symmetric);
 }
 
-TEST(DropOppositeNeighbors, KeepsCreasesUpToTheAngle) {
-  // A 90° fold: normals 90° apart stay at the default 120°, go at 80° when
-  // any pair past the angle leaves (not only back-to-back ones).
-  const auto s = test::folded_plane(31, 90.0);
-  Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
-  Neighborhoods cut = R;
-  EXPECT_EQ(drop_opposite_neighbors(R, s.P, s.N, {}), 0u);
-  EXPECT_GT(drop_opposite_neighbors(cut, s.P, s.N, {80.0, false}), 0u);
+// A 90° fold rising from the flat half is a concave crease: its faces look
+// at each other and stay at any angle unless any pair past the angle goes.
+// With its normals turned round it is a convex ridge seen from the other
+// side, back to back: split at 60°, kept at 120°.
+TEST(DropOppositeNeighbors, SplitsConvexCreasesOnly) {
+  auto s = test::folded_plane(31, 90.0);
+  Neighborhoods concave = radius_neighborhoods(s.P, {0.1, 0});
+  Neighborhoods any_pair = concave;
+  EXPECT_EQ(drop_opposite_neighbors(concave, s.P, s.N, {}), 0u);
+  EXPECT_GT(drop_opposite_neighbors(any_pair, s.P, s.N, {60.0, false}), 0u);
+  s.N *= -1.0;
+  Neighborhoods convex = radius_neighborhoods(s.P, {0.1, 0});
+  Neighborhoods wide = convex;
+  const std::size_t removed = drop_opposite_neighbors(convex, s.P, s.N, {});
+  EXPECT_EQ(drop_opposite_neighbors(wide, s.P, s.N, {120.0}), 0u);
+  // Exactly the pairs with one point on each face (off the crease line).
+  std::size_t across = 0;
+  const Neighborhoods all = radius_neighborhoods(s.P, {0.1, 0});
+  for (std::size_t i = 0; i < all.size(); ++i)
+    for (const std::uint32_t* j = all.begin(i); j != all.end(i); ++j)
+      across += s.N.row(i).dot(s.N.row(*j)) < 0.5 &&
+                (s.P.row(*j) - s.P.row(i)).dot(s.N.row(i)) < 0.0 &&
+                (s.P.row(*j) - s.P.row(i)).dot(s.N.row(*j)) > 0.0;
+  EXPECT_GT(removed, 0u);
+  EXPECT_EQ(removed, across);
 }
 
 TEST(DropOppositeNeighbors, ZeroNormalsAndStraightAngleKeepEverything) {
