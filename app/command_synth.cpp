@@ -3,12 +3,15 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "detexture/eval/synthesize_shape.h"
+#include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 
 namespace detexture::app {
@@ -30,10 +33,11 @@ std::string ground_truth_path_for(const std::string& output) {
   return output.substr(0, dot) + ".gt" + output.substr(dot);
 }
 
-std::string describe(const SynthParams& p) {
+std::string describe(const SynthParams& p, const std::string& base_mesh) {
   std::ostringstream s;
-  s << "detexture synth shape=" << base_shape_name(p.shape)
-    << " texture=" << texture_kind_name(p.texture) << " layout=" << texture_layout_name(p.layout)
+  s << "detexture synth shape=" << base_shape_name(p.shape);
+  if (!base_mesh.empty()) s << " base_mesh=" << base_mesh;
+  s << " texture=" << texture_kind_name(p.texture) << " layout=" << texture_layout_name(p.layout)
     << " size=" << p.size << " amplitude=" << p.amplitude << " mixed_signs=" << p.mixed_signs
     << " points=" << p.points << " ground_truth_points=" << p.ground_truth_points
     << " noise=" << p.noise << (p.noise_absolute ? " (absolute)" : " (of diagonal)")
@@ -48,7 +52,7 @@ int run_synth(int argc, char** argv) {
   std::string shape = base_shape_name(params.shape);
   std::string texture = texture_kind_name(params.texture);
   std::string layout = texture_layout_name(params.layout);
-  std::string output, ground_truth;
+  std::string output, ground_truth, base_mesh;
   bool ascii = false;
 
   CLI::App app{
@@ -64,9 +68,12 @@ int run_synth(int argc, char** argv) {
   app.add_option("--ground-truth", ground_truth,
                  "Where to write the ground truth [default: OUTPUT with .gt before the "
                  "extension, e.g. cube.gt.ply]");
-  app.add_option("--shape", shape, "Base shape")
-      ->check(CLI::IsMember(names(base_shape_name, 6)))
+  app.add_option("--shape", shape, "Base shape ('mesh' needs --base-mesh)")
+      ->check(CLI::IsMember(names(base_shape_name, 12)))
       ->capture_default_str();
+  app.add_option("--base-mesh", base_mesh,
+                 "Use the triangle mesh of this PLY file (vertex x y z, face vertex_indices) as "
+                 "the base surface, coordinates as they are; implies --shape mesh");
   app.add_option("--texture", texture, "Texture on the base shape")
       ->check(CLI::IsMember(names(texture_kind_name, 8)))
       ->capture_default_str();
@@ -119,12 +126,35 @@ int run_synth(int argc, char** argv) {
   SynthesizedShape synth;
   try {
     params.shape = parse_base_shape(shape);
+    if (!base_mesh.empty()) {
+      if (app.count("--shape") && params.shape != BaseShape::Mesh)
+        throw std::invalid_argument("--base-mesh sets the shape to mesh; drop --shape " + shape);
+      params.shape = BaseShape::Mesh;
+    }
     params.texture = parse_texture_kind(texture);
     params.layout = parse_texture_layout(layout);
     format_from_extension(output);
     format_from_extension(ground_truth);
     if (ground_truth == output)
       throw std::invalid_argument("the ground truth and the output are the same file, " + output);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "detexture synth: %s\n", e.what());
+    return kExitUsage;
+  }
+  if (!base_mesh.empty()) {
+    try {
+      const PointCloud mesh_cloud = read_point_cloud(base_mesh);  // its errors name the file
+      try {
+        params.mesh = std::make_shared<const BaseMesh>(base_mesh_from_cloud(mesh_cloud));
+      } catch (const std::exception& e) {
+        throw std::runtime_error(base_mesh + ": " + e.what());
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "detexture synth: %s\n", e.what());
+      return kExitInput;
+    }
+  }
+  try {
     synth = synthesize_shape(params);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "detexture synth: %s\n", e.what());
@@ -140,25 +170,30 @@ int run_synth(int argc, char** argv) {
     cloud.extras.push_back({"texture_height", real, std::move(synth.texture_heights)});
     cloud.extras.push_back({"is_texture", ScalarType::UInt8,
                             std::vector<double>(synth.is_texture.begin(), synth.is_texture.end())});
-    cloud.comments.push_back(describe(params));
+    cloud.comments.push_back(describe(params, base_mesh));
     write_point_cloud(output, cloud, options);
 
     PointCloud truth;
     truth.positions = std::move(synth.ground_truth_positions);
     truth.normals = std::move(synth.ground_truth_normals);
     truth.position_type = truth.normal_type = real;
-    truth.comments.push_back("ground truth (untextured base surface) of " + describe(params));
+    truth.comments.push_back("ground truth (untextured base surface) of " +
+                             describe(params, base_mesh));
     write_point_cloud(ground_truth, truth, options);
 
     std::size_t texture_points = 0;
     for (double v : cloud.extras[1].values) texture_points += v != 0.0;
     std::printf(
         "wrote %zu points (%.1f%% texture, %zu features, noise sigma %.3g) to %s\n"
-        "wrote %zu ground-truth points of the untextured %s to %s\n",
+        "wrote %zu ground-truth points of the untextured %s to %s\n"
+        "base area %.6g diagonal %.6g\n",
         cloud.size(),
         100.0 * static_cast<double>(texture_points) / static_cast<double>(cloud.size()),
         synth.feature_count, synth.noise_sigma, output.c_str(), truth.size(),
-        base_shape_name(params.shape), ground_truth.c_str());
+        base_shape_name(params.shape), ground_truth.c_str(), synth.area, synth.diagonal);
+    if (synth.degenerate_triangles > 0)
+      std::printf("skipped %zu degenerate triangles of the base mesh\n",
+                  synth.degenerate_triangles);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "detexture synth: %s\n", e.what());
     return kExitOutput;

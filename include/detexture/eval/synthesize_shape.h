@@ -13,25 +13,60 @@
 // and h = 0 within `size` of every patch border, so next to an edge the
 // textured surface coincides with B and the underlying surface is well
 // defined. docs/synth_and_compare.md gives every formula.
+//
+// The shapes after Plane (ellipsoid, saddle, knot, blob, disc, mesh) are one
+// patch each and have thin parts or close passes (the disc's two sheets 0.06
+// apart, neighbouring strands of the knot, legs and ears of a mesh). There a
+// feature must not reach through to the other side, so on these shapes a
+// feature centred at c with base normal n_c acts on a point b only as far as
+// n(b).n_c > 0: bumps and domes are multiplied by a C1 weight that is 1 for
+// n(b).n_c >= 1/2 and 0 for n(b).n_c <= 0, dart throwing lets centres with
+// n_i.n_j <= 0 come closer than the spacing, and scale cells are Voronoi cells
+// of the lifted points (b, 2R n(b)). The older shapes keep their exact former
+// output (on them the weight is always 1).
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "detexture/io/point_cloud.h"
 #include "detexture/types.h"
 
 namespace detexture {
 
 /// Base shapes, all centered at the origin and fitting the box [-0.5, 0.5]^3.
 enum class BaseShape : std::uint8_t {
-  Sphere,    ///< radius 0.5
-  Cube,      ///< side 1, axis-aligned; 6 patches
-  Cylinder,  ///< radius 0.5, height 1 along z, closed by two flat caps; 3 patches
-  Torus,     ///< major radius 0.35, tube radius 0.15, around the z axis
-  Pyramid,   ///< square base of side 1 at z = -0.5, apex (0, 0, 0.5); 5 patches
-  Plane,     ///< the square [-0.5, 0.5]^2 at z = 0, normal +z
+  Sphere,     ///< radius 0.5
+  Cube,       ///< side 1, axis-aligned; 6 patches
+  Cylinder,   ///< radius 0.5, height 1 along z, closed by two flat caps; 3 patches
+  Torus,      ///< major radius 0.35, tube radius 0.15, around the z axis
+  Pyramid,    ///< square base of side 1 at z = -0.5, apex (0, 0, 0.5); 5 patches
+  Plane,      ///< the square [-0.5, 0.5]^2 at z = 0, normal +z
+  Ellipsoid,  ///< semi-axes (0.5, 0.32, 0.2) along x, y, z
+  Saddle,     ///< z = 0.6 (x^2 - y^2) over the disk x^2 + y^2 <= 0.25, normal up; open
+  Knot,       ///< tube of radius 0.07 around a trefoil (docs give the curve)
+  Blob,       ///< star-shaped body with 6 limbs, r(d) = 0.22 + sum L_k exp((d.a_k - 1)/w_k)
+  Disc,       ///< flat disc of radius 0.4, thickness 0.06, rim a half-torus of radius 0.03
+  Mesh,       ///< the triangle mesh SynthParams::mesh, used as it is (face normals)
 };
+
+/// A triangle mesh used as the base surface (BaseShape::Mesh). Triangles are
+/// counter-clockwise seen from the side their normal points to (the outside
+/// for a consistently oriented closed mesh). Degenerate triangles (zero area,
+/// relative to the longest edge) are skipped when the shape is built.
+struct BaseMesh {
+  Positions vertices;                                                         ///< #V by 3
+  Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor> triangles;  ///< #T by 3 rows of V
+};
+
+/// The triangles of a cloud read from a PLY file with a "face" element whose
+/// list property is vertex_indices or vertex_index (as read_point_cloud keeps
+/// it in other_elements); polygons are fan-triangulated (v0, vi, vi+1).
+/// Throws std::invalid_argument with a sentence when there is no face
+/// element, no such list, an index out of range, or no triangle at all.
+BaseMesh base_mesh_from_cloud(const PointCloud& cloud);
 
 /// Height fields. A is `amplitude`, R is `size`; d is the 3D distance from b
 /// to a feature center; u = k.b with k = (1, 2, 3)/sqrt(14) for the line
@@ -87,6 +122,9 @@ struct SynthParams {
   double noise = 0.0;
   bool noise_absolute = false;  ///< read `noise` in model units instead
   std::uint64_t seed = 1;       ///< same seed, same cloud, on any thread count
+  /// The base surface when shape == BaseShape::Mesh (required then, ignored
+  /// otherwise); shared so that copies of the params stay cheap.
+  std::shared_ptr<const BaseMesh> mesh;
 };
 
 /// |h| above which a sample counts as texture, in model units.
@@ -104,7 +142,11 @@ struct SynthesizedShape {
   Positions ground_truth_positions;      ///< #G by 3 samples of the clean base surface
   Normals ground_truth_normals;          ///< #G by 3 their outward normals
   std::size_t feature_count = 0;         ///< bumps, domes or cells placed (0 for line textures)
+  Positions feature_centers;             ///< feature_count by 3 centres on the base (all sets)
+  Normals feature_normals;               ///< feature_count by 3 base normals at the centres
+  double area = 0.0;                     ///< area of the base surface
   double diagonal = 0.0;                 ///< bounding-box diagonal of the base shape
+  std::size_t degenerate_triangles = 0;  ///< mesh base: zero-area triangles skipped
   double noise_sigma = 0.0;              ///< the noise standard deviation used, in model units
 };
 
