@@ -169,7 +169,7 @@ REAL_MESHES = {
         RealMesh("human", "Collada/human.zae", "largest", 1,
                  "a standing person (COLLADA): arms about 0.05 thick, fingers about 0.01"),
         RealMesh("duck", "Collada/duck.dae", "largest", 2,
-                 "the COLLADA duck: smooth and closed, a thin beak"),
+                 "the COLLADA duck: smooth and closed, no thin part"),
         RealMesh("spider", "OBJ/spider.obj", "all", 2,
                  "the spider (OBJ): 18 closed parts, legs 0.012-0.02 thick that pierce the body"),
         RealMesh("engine", "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "largest", 0,
@@ -425,13 +425,19 @@ def detexture_seconds(stats_path):
     return s["total"] - s.get("read", 0.0) - s.get("write", 0.0)
 
 
-def logged_command(log_path):
-    """The command line a run() log starts with, or None."""
-    if not os.path.exists(log_path):
-        return None
-    with open(log_path) as f:
-        first = f.readline()
-    return first[2:].rstrip("\n") if first.startswith("$ ") else None
+def made_by(cmd, outputs):
+    """Whether `outputs` exist and were made by exactly this command and program
+    (the key prepare_mesh and synthesize store next to their output)."""
+    key = outputs[0] + ".key.json"
+    if not all(os.path.exists(o) for o in outputs) or not os.path.exists(key):
+        return False
+    with open(key) as f:
+        return json.load(f) == {"command": cmd[1:], "program": file_digest(cmd[0])}
+
+
+def store_made_by(cmd, outputs):
+    with open(outputs[0] + ".key.json", "w") as f:
+        json.dump({"command": cmd[1:], "program": file_digest(cmd[0])}, f, indent=1)
 
 
 def prepare_mesh(build, mesh, work):
@@ -445,30 +451,33 @@ def prepare_mesh(build, mesh, work):
     if not os.access(program, os.X_OK):
         raise RuntimeError(f"{program} is not built (it needs CGAL and libassimp-dev)")
     cmd = [program, model, out] + mesh.prepare_args()
-    log_path = out[:-4] + ".prepare.log"
-    if not (os.path.exists(out) and logged_command(log_path) == shlex.join(cmd)):
-        ok, _, msg = run(cmd, log_path, 300)
+    if not made_by(cmd, [out]):
+        ok, _, msg = run(cmd, out[:-4] + ".prepare.log", 300)
         if not ok:
             raise RuntimeError(f"prepare_mesh failed for {mesh.name}: {msg}")
+        store_made_by(cmd, [out])
     return out
 
 
 def synthesize(build, case, points, work):
     """The case's cloud, in Morton order (see morton_order), and its ground truth.
 
-    Reused when present and made by the same command; records the base area and
-    diagonal that synth prints (BASE_GEOMETRY)."""
+    Reused when present and made by the same command and the same detexture
+    binary (so a rebuilt synth never leaves stale clouds; a rerun costs seconds,
+    and the peers' cache keys on the cloud's content, not its date); records
+    the base area and diagonal that synth prints (BASE_GEOMETRY)."""
     base = os.path.join(work, case.name)
     ply, gt, ordered = base + ".ply", base + ".gt.ply", base + ".morton.ply"
     mesh_path = prepare_mesh(build, case.mesh, work) if case.mesh else None
     cmd = [detexture_bin(build), "synth", "-o", ply] + case.synth_args(points, mesh_path)
     log_path = base + ".synth.log"
-    fresh = (os.path.exists(ply) and os.path.exists(gt) and logged_command(log_path) == shlex.join(cmd)
-             and (mesh_path is None or os.path.getmtime(mesh_path) <= os.path.getmtime(ply)))
+    fresh = made_by(cmd, [ply, gt]) and (mesh_path is None
+                                         or os.path.getmtime(mesh_path) <= os.path.getmtime(ply))
     if not fresh:
         ok, _, msg = run(cmd, log_path, 300)
         if not ok:
             raise RuntimeError(f"synth failed for {case.name}: {msg}")
+        store_made_by(cmd, [ply, gt])
     with open(log_path) as f:
         m = re.search(r"base area ([0-9.eE+-]+) diagonal ([0-9.eE+-]+)", f.read())
     if m:
