@@ -154,7 +154,7 @@ int run_detexture(int argc, char** argv) {
       "Reliable Rolling-guided Point Normal Filtering for Surface Texture Removal, PG 2019).\n"
       "Lengths are in the cloud's units, a fraction of the bounding-box diagonal with a "
       "trailing d (0.02d), or a multiple of the radius r with a trailing r (0.5r).\nOther "
-      "commands: 'detexture synth --help', 'detexture compare --help'.",
+      "commands: 'detexture synth --help', 'detexture compare --help', 'detexture render --help'.",
       "detexture"};
   app.get_formatter()->column_width(34);
   app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")

@@ -1,5 +1,5 @@
 // The subcommands of the detexture executable. main() dispatches on argv[1]:
-// "synth" and "compare" go to their own command, anything else is the
+// "synth", "compare" and "render" go to their own command, anything else is the
 // texture-removal job. Each returns the process exit code.
 #pragma once
 
@@ -17,5 +17,6 @@ enum ExitCode : int {
 int run_detexture(int argc, char** argv);
 int run_synth(int argc, char** argv);    ///< argv[0] is "synth"
 int run_compare(int argc, char** argv);  ///< argv[0] is "compare"
+int run_render(int argc, char** argv);   ///< argv[0] is "render"
 
 }  // namespace detexture::app

@@ -3,7 +3,7 @@
 # on Debian 12. Skips apt entirely when everything is already installed.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libnanoflann-dev libcli11-dev
-          libgtest-dev googletest)
+          libgtest-dev googletest libpng-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -10,6 +10,7 @@
 
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
+#include "png_support.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
@@ -199,6 +200,97 @@ TEST_F(Cli, HelpListsEveryParameterWithItsSymbol) {
                         "--sigma-s", "--sigma-r", "--sigma-p", "--iterations", "--isotropy",
                         "--update", "--guidance", "--no-subneighborhood", "--threads", "0.02d"})
     EXPECT_NE(help.find(s), std::string::npos) << s;
+}
+
+// detexture render: a picture whose content is what was asked for, and the
+// exit codes of each kind of failure.
+TEST_F(Cli, RenderDrawsCloudsSideBySide) {
+  PointCloud plane = bumpy(true);
+  std::vector<double> height(plane.size());
+  for (std::size_t i = 0; i < plane.size(); ++i) height[i] = plane.positions(i, 2);
+  plane.extras.push_back({"texture_height", ScalarType::Float32, height});
+  write_point_cloud(path("a.ply"), plane);
+  write_point_cloud(path("b.xyz"), bumpy(false));  // no normals: estimated
+  ASSERT_EQ(run("render " + path("a.ply") + " " + path("b.xyz") + " -o " + path("ab.png") +
+                " --size 400x200 --view top --light 0,0 --no-labels --color-by texture_height"),
+            0)
+      << stderr_;
+  EXPECT_NE(stderr_.find("b.xyz has no property 'texture_height'"), std::string::npos) << stderr_;
+  const Image image = test::read_png(path("ab.png"));
+  ASSERT_EQ(image.width, 400);
+  ASSERT_EQ(image.height, 200);
+  // Left panel, under a headlight: the bump's top is the highest value, viridis' yellow end;
+  // the flat border near its dark end. Right panel: plain surface colour.
+  const std::array<std::uint8_t, 3> white = {255, 255, 255};
+  EXPECT_EQ(image.pixel(3, 3), white);
+  int yellow = 0, coloured_right = 0, plain_right = 0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 400; ++x) {
+      const auto c = image.pixel(x, y);
+      if (x < 150) yellow += c[0] > 200 && c[1] > 180 && c[2] < 100;
+      if (x >= 200 && x < 330 && c != white) {
+        plain_right += c[0] == c[1];  // grey, from the surface colour
+        coloured_right += c[0] != c[1];
+      }
+    }
+  EXPECT_GT(yellow, 10);
+  EXPECT_GT(plain_right, 5000);
+  EXPECT_EQ(coloured_right, 0);
+}
+
+TEST_F(Cli, RenderDrawsTheFacesOfAMesh) {
+  // A unit square of two triangles, written as a PLY mesh without normals.
+  PointCloud mesh;
+  mesh.positions.resize(4, 3);
+  mesh.positions << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
+  OtherElement faces;
+  faces.name = "face";
+  faces.properties = {{"vertex_indices", ScalarType::Int32, true, ScalarType::UInt8}};
+  faces.values = {3, 0, 1, 2, 3, 0, 2, 3};
+  faces.row_offsets = {0, 4, 8};
+  mesh.other_elements.push_back(faces);
+  write_point_cloud(path("mesh.ply"), mesh);
+  ASSERT_EQ(run("render " + path("mesh.ply") + " -o " + path("mesh.png") +
+                " --size 200x200 --view top --light 0,0 --no-labels"),
+            0)
+      << stderr_;
+  const Image image = test::read_png(path("mesh.png"));
+  ASSERT_EQ(image.width, 200);
+  // The default 12 px margins: pixel centres 12.5 .. 187.5 lie in the
+  // square [12, 188], all in the surface colour (face normals, facing the
+  // light); four corner points alone would be four dots.
+  const RenderParams defaults;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x) {
+      const bool inside = x >= 12 && x < 188 && y >= 12 && y < 188;
+      const std::array<std::uint8_t, 3> want =
+          inside ? defaults.surface_color : defaults.background;
+      ASSERT_EQ(image.pixel(x, y), want) << x << "," << y;
+    }
+}
+
+TEST_F(Cli, RenderExitCodes) {
+  write_point_cloud(path("in.ply"), bumpy(true));
+  EXPECT_EQ(run("render " + path("missing.ply") + " -o " + path("o.png")), 3);
+  EXPECT_EQ(lines(stderr_), 1) << stderr_;
+  EXPECT_NE(stderr_.find("missing.ply"), std::string::npos);
+  EXPECT_FALSE(fs::exists(path("o.png")));
+  for (const char* args : {"--bogus", "--view sideways", "--size 12", "--range 1",
+                           "--point-size -1", "--width 5", "--up w", "--label a --label b"}) {
+    EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("o.png") + " " + args), 2) << args;
+    EXPECT_FALSE(fs::exists(path("o.png"))) << args;
+  }
+  EXPECT_EQ(run("render " + path("in.ply")), 2) << "-o is required";
+  EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("o.jpg")), 2) << "PNG only";
+  EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("o.png") + " --color-by nothing"), 3);
+  write_text("taken.png", "keep me");
+  EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("taken.png")), 4);
+  EXPECT_NE(stderr_.find("--force"), std::string::npos);
+  EXPECT_EQ(fs::file_size(path("taken.png")), 7u);
+  EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("taken.png") + " -f -q"), 0) << stderr_;
+  EXPECT_EQ(stderr_, "");
+  EXPECT_EQ(test::read_png(path("taken.png")).width, RenderParams().width);
+  EXPECT_EQ(run("render " + path("in.ply") + " -o " + path("no/such/dir.png")), 4);
 }
 
 }  // namespace

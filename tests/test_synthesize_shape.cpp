@@ -429,10 +429,11 @@ TEST(SynthesizeShape, LineTexturesFollowTheirFormulas) {
 }
 
 // Bumps, domes and scales rise from 0 to A; on the cube and the cylinder no
-// texture comes within R of an edge.
+// texture comes within R of an edge, on the saddle none within R of its
+// border (in the xy projection).
 TEST(SynthesizeShape, FeaturesStayInRangeAndClearOfEdges) {
   const double R = 0.05, A = 0.02;
-  for (BaseShape shape : {BaseShape::Cube, BaseShape::Cylinder})
+  for (BaseShape shape : {BaseShape::Cube, BaseShape::Cylinder, BaseShape::Saddle})
     for (TextureKind texture : kTextures) {
       const SynthesizedShape s =
           synthesize_shape(params_for(shape, texture, TextureLayout::Dense, 20000));
@@ -440,7 +441,9 @@ TEST(SynthesizeShape, FeaturesStayInRangeAndClearOfEdges) {
       for (Eigen::Index i = 0; i < 20000; ++i) {
         const Vector3d b = s.base_positions.row(i);
         double e;
-        if (shape == BaseShape::Cube) {
+        if (shape == BaseShape::Saddle) {
+          e = 0.5 - b.head<2>().norm();
+        } else if (shape == BaseShape::Cube) {
           Vector3d a = b.cwiseAbs();
           std::sort(a.data(), a.data() + 3);
           e = 0.5 - a[1];  // the second largest coordinate meets the nearest edge

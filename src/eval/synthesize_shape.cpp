@@ -373,14 +373,30 @@ class BlobSurface : public SmoothSurface {
     }
     jacobian_bound_ = radius_bound * std::hypot(radius_bound, slope_bound);
     area_ = sphere_integral([&](const Vector3d& d) { return jacobian(d); });
-    Vector3d low = Vector3d::Constant(kInfinity), high = -low;
-    sphere_integral([&](const Vector3d& d) {
-      const Vector3d x = radius(d) * d;
-      low = low.cwiseMin(x);
-      high = high.cwiseMax(x);
-      return 0.0;
-    });
-    diagonal_ = (high - low).norm();
+    // Bounding box: the extreme quadrature node along each of +-x, +-y, +-z,
+    // refined by pattern search on the sphere down to steps of 1e-12.
+    Vector3d extent[2];
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        const Vector3d axis = (side ? -1.0 : 1.0) * Vector3d::Unit(a);
+        auto height = [&](const Vector3d& d) { return radius(d) * d.dot(axis); };
+        Vector3d best = axis;
+        sphere_integral([&](const Vector3d& d) {
+          if (height(d) > height(best)) best = d;
+          return 0.0;
+        });
+        for (double step = 1e-2; step > 1e-12;) {
+          const Vector3d u = best.unitOrthogonal(), v = best.cross(u);
+          bool moved = false;
+          for (const Vector3d& e : {u, Vector3d(-u), v, Vector3d(-v)}) {
+            const Vector3d d = (best + step * e).normalized();
+            if (height(d) > height(best)) best = d, moved = true;
+          }
+          if (!moved) step *= 0.5;
+        }
+        extent[side][a] = height(best);
+      }
+    diagonal_ = (extent[0] + extent[1]).norm();
   }
   double area() const override { return area_; }
   double diagonal() const override { return diagonal_; }

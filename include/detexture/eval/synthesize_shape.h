@@ -36,7 +36,8 @@
 
 namespace detexture {
 
-/// Base shapes, all centered at the origin and fitting the box [-0.5, 0.5]^3.
+/// Base shapes, all centered at the origin and fitting the box [-0.5, 0.5]^3
+/// (except Mesh, whose coordinates are used as given).
 enum class BaseShape : std::uint8_t {
   Sphere,     ///< radius 0.5
   Cube,       ///< side 1, axis-aligned; 6 patches
