@@ -83,6 +83,7 @@ class RealMesh:
     components: str = "largest"  # prepare_mesh --components
     subdivide: int = 0  # prepare_mesh --subdivide (Loop levels)
     what: str = ""
+    up: str = "y"  # the model's up axis, for the pictures (every model used is y-up)
 
     def path(self, work):
         return os.path.join(work, "meshes", self.name + ".ply")
@@ -907,8 +908,10 @@ def draw_pictures(build, cases, active, runs, work, jobs):
             if m and r and not r["error"]:
                 clouds.append(r["out"])
         png = os.path.join(folder, case.name + ".png")
+        labels = ["input", "detexture", method_label(peer) if peer else ""][:len(clouds)]
         todo.append((case, peer, png, [detexture_bin(build), "render"] + clouds
-                     + ["-o", png, "--view", "iso"]))
+                     + ["-o", png, "--view", "iso", "--up", case.mesh.up if case.mesh else "z",
+                        "--size", f"{500 * len(clouds)}x500", "-f", "--label"] + labels))
 
     def one(item):
         case, peer, png, cmd = item
