@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Install what the peer programs in bench/peers need, from Debian 12's packages:
-#   libcgal-dev + libtbb-dev  peer_cgal_bilateral, peer_cgal_jet (parallel via TBB)
+#   libcgal-dev + libtbb-dev  peer_cgal_bilateral, peer_cgal_jet, peer_cgal_wlop (parallel via TBB)
 #   libpcl-dev                peer_pcl_mls
 #   meshlab + xvfb + xauth    peer_meshlab_rimls.sh (meshlabserver needs an X display
 #   + libgl1-mesa-dri         with OpenGL even headless: it runs under xvfb-run on Mesa)
 #   libcli11-dev              command lines of every peer
+#   libassimp-dev             bench/peers/prepare_mesh (reads the models of bench/quality_real)
+#   assimp-testmodels         the real base meshes of bench/quality_real (/usr/share/assimp/models)
 # Run as root (or with sudo available). Non-interactive and idempotent: running it
 # again installs nothing new.
 set -euo pipefail
@@ -34,6 +36,8 @@ PACKAGES=(
   xvfb
   xauth
   libgl1-mesa-dri
+  libassimp-dev
+  assimp-testmodels
 )
 
 $SUDO apt-get update
