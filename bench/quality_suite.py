@@ -238,6 +238,8 @@ DETEXTURE_VARIANTS = [
     ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
     ("soft-subneighborhood", ["--subneighborhood", "soft"],
      "ours, an option: Ω_i weighted by the vote share T/N (for dense texture)"),
+    ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0"],
+     "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
 ]
 
 # --------------------------------------------------------------------------
@@ -338,7 +340,7 @@ def peer_args(peer, params, case, points, threads=None):
 # runs first, so they need not be exact.
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
-    "soft-subneighborhood": 0.15,
+    "soft-subneighborhood": 0.15, "flat-shared": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 
