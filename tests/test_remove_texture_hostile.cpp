@@ -129,6 +129,11 @@ TEST(RemoveTextureHostile, MemoryEstimateCountsSampledNeighbors) {
   EXPECT_EQ(capped.mean_neighbors, 5.0);
   // A radius covering everything: every sample sees all 10201 points.
   EXPECT_EQ(estimate_neighborhoods_memory(s.P, {2.0, 0}, 64).mean_neighbors, 10201.0);
+  // Sure to exceed 10 MB after the second sample: (2·10201 + 62)/64 = 319.8
+  // neighbors per point at least, 10201·(4.2·319.8 + 256) = 16.3 MB.
+  const NeighborhoodsMemoryEstimate early = estimate_neighborhoods_memory(s.P, {2.0, 0}, 64, 1e7);
+  EXPECT_EQ(early.sampled, 2u);
+  EXPECT_NEAR(early.bytes, 10201 * (4.2 * (2 * 10201 + 62) / 64.0 + kBytesPerPoint), 1.0);
 }
 
 TEST(RemoveTextureHostile, MemoryGuardRefusesWithWhatToChange) {

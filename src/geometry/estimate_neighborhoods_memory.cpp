@@ -17,9 +17,16 @@
 
 namespace detexture {
 
+namespace {
+double bytes_for(std::size_t points, double mean_neighbors) {
+  return static_cast<double>(points) * (4.0 * 1.05 * mean_neighbors + kBytesPerPoint);
+}
+}  // namespace
+
 NeighborhoodsMemoryEstimate estimate_neighborhoods_memory(const Positions& P,
                                                           const RadiusNeighborhoodsParams& params,
-                                                          std::size_t samples) {
+                                                          std::size_t samples,
+                                                          double stop_above_bytes) {
   if (!(params.radius > 0.0) || !std::isfinite(params.radius))
     throw std::invalid_argument("the neighborhood radius must be a positive number, got " +
                                 number_text(params.radius));
@@ -41,10 +48,16 @@ NeighborhoodsMemoryEstimate estimate_neighborhoods_memory(const Positions& P,
     const std::size_t count = std::min(found.size(), cap);
     total += static_cast<double>(count);
     e.max_neighbors = std::max(e.max_neighbors, count);
+    e.sampled = s + 1;
+    const double lower_mean = (total + static_cast<double>(m - s - 1)) / static_cast<double>(m);
+    if (bytes_for(n, lower_mean) > stop_above_bytes) {
+      e.mean_neighbors = total / static_cast<double>(e.sampled);
+      e.bytes = bytes_for(n, lower_mean);
+      return e;
+    }
   }
-  e.sampled = m;
   e.mean_neighbors = total / static_cast<double>(m);
-  e.bytes = static_cast<double>(n) * (4.0 * 1.05 * e.mean_neighbors + kBytesPerPoint);
+  e.bytes = bytes_for(n, e.mean_neighbors);
   return e;
 }
 

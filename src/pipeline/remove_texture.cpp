@@ -116,10 +116,12 @@ void check_memory(const Positions& P, const RemoveTextureParams& params, RemoveT
   const std::uint64_t limit =
       params.memory_limit != 0 ? params.memory_limit : default_memory_limit();
   if (limit == 0 || limit == std::numeric_limits<std::uint64_t>::max()) return;
-  const NeighborhoodsMemoryEstimate e =
-      estimate_neighborhoods_memory(P, {rep.radius, params.max_neighbors}, 256);
+  constexpr std::size_t kSamples = 256;
+  const NeighborhoodsMemoryEstimate e = estimate_neighborhoods_memory(
+      P, {rep.radius, params.max_neighbors}, kSamples, static_cast<double>(limit));
   rep.estimated_bytes = e.bytes;
   if (e.bytes <= static_cast<double>(limit)) return;
+  const bool early = e.sampled < std::min<std::size_t>(kSamples, P.rows());
   const double n = static_cast<double>(P.rows());
   const double fitting = (static_cast<double>(limit) / n - kBytesPerPoint) / (4.0 * 1.05);
   char mean[32];
@@ -128,9 +130,10 @@ void check_memory(const Positions& P, const RemoveTextureParams& params, RemoveT
   if (fitting >= 3.0)
     advice += ", or --max-neighbors " + std::to_string(static_cast<long long>(fitting * 0.9));
   throw ResourceLimitError(
-      "the neighborhoods would need about " + memory_size_text(e.bytes) + " (" + mean +
-      " neighbors per point on average, counted on " + std::to_string(e.sampled) +
-      " sample points, for " + std::to_string(P.rows()) + " points), more than the memory limit of " +
+      std::string("the neighborhoods would need ") + (early ? "at least " : "about ") +
+      memory_size_text(e.bytes) + " (" + mean + " neighbors per point on average, counted on " +
+      std::to_string(e.sampled) + " sample point" + (e.sampled == 1 ? "" : "s") + ", for " +
+      std::to_string(P.rows()) + " points), more than the memory limit of " +
       memory_size_text(static_cast<double>(limit)) + "; " + advice +
       ", or raise --memory-limit (default 80% of the physical memory)");
 }

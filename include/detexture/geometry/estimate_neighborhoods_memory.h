@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -36,12 +37,16 @@ constexpr double kBytesPerPoint = 256.0;
 
 /// Estimate the size of radius_neighborhoods(P, params) by counting, with the
 /// point index, the neighbors of `samples` points spread evenly over P's rows
-/// (all points when P has fewer). Deterministic. Costs `samples` radius
-/// queries: well under a second even when r covers the whole cloud of a few
-/// million points. Throws std::invalid_argument for a non-positive radius.
-NeighborhoodsMemoryEstimate estimate_neighborhoods_memory(const Positions& P,
-                                                          const RadiusNeighborhoodsParams& params,
-                                                          std::size_t samples = 512);
+/// (all points when P has fewer). Deterministic. Costs up to `samples` radius
+/// queries. Sampling stops early once the estimate is sure to exceed
+/// `stop_above_bytes` whatever the remaining samples hold (each holds at
+/// least itself); `sampled` then says how many were counted and `bytes` is a
+/// lower bound. So a radius covering all of 3M points is refused after one
+/// query (0.1 s) instead of 256 (36 s). Throws std::invalid_argument for a
+/// non-positive radius.
+NeighborhoodsMemoryEstimate estimate_neighborhoods_memory(
+    const Positions& P, const RadiusNeighborhoodsParams& params, std::size_t samples = 256,
+    double stop_above_bytes = std::numeric_limits<double>::infinity());
 
 /// 80% of the machine's physical memory, in bytes (the default of
 /// RemoveTextureParams::memory_limit); 0 if it cannot be found out.
