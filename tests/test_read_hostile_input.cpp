@@ -208,3 +208,20 @@ TEST_F(HostileInput, UnknownHeaderLineBeforeTheElementsIsKeptAsAComment) {
 
 }  // namespace
 }  // namespace detexture
+
+namespace detexture {
+namespace {
+
+// Found by fuzz/fuzz_read_ply: a name with a control character (0x7f) was
+// read, and then the writer refused the cloud.
+TEST_F(HostileInput, NamesWithControlCharactersAreRefused) {
+  const std::string in = write("ctrl.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                               "property float y\nproperty float z\nproperty int \x7fl\n"
+                               "end_header\n1 2 3 4\n");
+  EXPECT_NE(read_error(in).find("line 7: the name"), std::string::npos) << read_error(in);
+  EXPECT_NE(read_error(in).find("contains a control character"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace detexture

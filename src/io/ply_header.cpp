@@ -46,6 +46,14 @@ std::string text_after_keyword(std::string_view line, std::string_view keyword) 
   throw_read_error(path, at_line(line), what);
 }
 
+// Names with control characters could not be written back (the writer
+// refuses them, as other readers would choke on them): found by fuzzing.
+void check_name(std::string_view name, const std::string& path, std::size_t line) {
+  for (const char c : name)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      fail(path, line, "the name " + quoted(name) + " contains a control character");
+}
+
 }  // namespace
 
 PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
@@ -99,6 +107,7 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
       if (!header.elements.empty() && header.elements.back().properties.empty())
         fail(path, header.elements.back().line,
              "element " + quoted(header.elements.back().name) + " has no properties");
+      check_name(tokens[1], path, n);
       PlyElement element;
       element.name = std::string(tokens[1]);
       element.line = n;
@@ -133,6 +142,7 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
           fail(path, n,
                "the count type of a list must be an integer type, not " + quoted(tokens[2]));
       }
+      check_name(tokens.back(), path, n);
       property.name = std::string(tokens.back());
       if (!property_names.insert(tokens.back()).second)
         fail(path, n,
