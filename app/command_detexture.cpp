@@ -130,8 +130,8 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   double total = read_s + write_s;
   for (const auto& t : r.timings) total += t.seconds;
   add("{\n  \"points\": %zu,\n  \"threads\": %d,\n", points, omp_get_max_threads());
-  add("  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n", r.diagonal,
-      r.radius, r.lambda);
+  add("  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n", r.diagonal, r.radius,
+      r.lambda);
   add("  \"sigma_s\": %.17g,\n  \"sigma_p\": %.17g,\n", r.sigma_s, r.sigma_p);
   add("  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
@@ -177,7 +177,8 @@ void install_signal_cleanup() {
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
-  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP})
+    sigaction(signal_number, &action, nullptr);
 }
 
 }  // namespace

@@ -24,12 +24,14 @@ void expect_same_cloud(const PointCloud& a, const PointCloud& b) {
     if (a.extras[k].name != b.extras[k].name || a.extras[k].type != b.extras[k].type)
       fuzz::fail("an extra's name or type differs");
     for (std::size_t i = 0; i < a.extras[k].values.size(); ++i)
-      if (!fuzz::same(a.extras[k].values[i], b.extras[k].values[i])) fuzz::fail("extra values differ");
+      if (!fuzz::same(a.extras[k].values[i], b.extras[k].values[i]))
+        fuzz::fail("extra values differ");
   }
   if (a.other_elements.size() != b.other_elements.size()) fuzz::fail("elements differ");
   for (std::size_t k = 0; k < a.other_elements.size(); ++k) {
     const OtherElement &x = a.other_elements[k], &y = b.other_elements[k];
-    if (x.name != y.name || x.row_offsets != y.row_offsets || x.properties.size() != y.properties.size())
+    if (x.name != y.name || x.row_offsets != y.row_offsets ||
+        x.properties.size() != y.properties.size())
       fuzz::fail("an element's name or rows differ");
     for (std::size_t p = 0; p < x.properties.size(); ++p)
       if (x.properties[p].name != y.properties[p].name ||

@@ -8,7 +8,8 @@
 #
 # Environment: FUZZ_BUILD_DIR (default build-fuzz at the root), FUZZ_CXX
 # (default clang++-14), FUZZ_RUNS=N to stop after N executions instead of
-# SECONDS, FUZZ_BUILD_ONLY=1 to only build, FUZZ_NO_BUILD=1 to skip the build.
+# SECONDS, FUZZ_BUILD_ONLY=1 to only build, FUZZ_NO_BUILD=1 to skip the build,
+# FUZZ_SANITIZERS=0 for a build without ASan/UBSan (faster long runs).
 set -euo pipefail
 seconds=${1:?usage: fuzz/run.sh SECONDS [read_ply|read_xyz ...]}
 shift
@@ -22,7 +23,8 @@ if [ -z "${FUZZ_NO_BUILD:-}" ]; then
   launcher=()
   command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   cmake -S "$root/fuzz" -B "$build" -DCMAKE_CXX_COMPILER="$cxx" \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" >/dev/null
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDETEXTURE_FUZZ_SANITIZERS="${FUZZ_SANITIZERS:-1}" \
+    "${launcher[@]}" >/dev/null
   cmake --build "$build" -j "$(nproc)" >/dev/null
 fi
 [ -n "${FUZZ_BUILD_ONLY:-}" ] && { echo "fuzz harnesses built in $build"; exit 0; }

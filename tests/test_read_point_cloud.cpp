@@ -345,7 +345,9 @@ std::vector<BadInput> bad_inputs() {
        ply_ascii("element vertex 1\nproperty float x\nproperty float128 y\n"),
        {"line 5", "float128"}},
       // (before the first element an unknown line is kept as a comment)
-      {"unknown keyword", "a.ply", ply_ascii("element vertex 1\nproperty float x\nelephant 1\n"),
+      {"unknown keyword",
+       "a.ply",
+       ply_ascii("element vertex 1\nproperty float x\nelephant 1\n"),
        {"line 5", "elephant"}},
       {"missing end_header",
        "a.ply",

@@ -107,8 +107,7 @@ TEST(RemoveTextureHostile, ExtremeScalesGiveTheScaledResult) {
 TEST(RemoveTextureHostile, AllZeroNormalsAreEstimatedAsWhenThereAreNone) {
   const auto s = test::bumpy_plane(31, 0.03, 0.05);
   const RemoveTextureResult none = remove_texture(s.P, Normals(), absolute(0.2));
-  const RemoveTextureResult zero =
-      remove_texture(s.P, Normals::Zero(s.P.rows(), 3), absolute(0.2));
+  const RemoveTextureResult zero = remove_texture(s.P, Normals::Zero(s.P.rows(), 3), absolute(0.2));
   expect_same_result(zero, none);
   EXPECT_EQ(zero.report.normals_reestimated, std::size_t(s.P.rows()));
   EXPECT_GT(zero.input_normals.rowwise().norm().minCoeff(), 0.99) << "no zero normal left";

@@ -41,8 +41,8 @@ class TextLines {
     if (!newline_known_ || newline_ < pos_) {
       newline_known_ = true;
       const void* nl = std::memchr(start, '\n', text_.size() - pos_);
-      newline_ = nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data())
-                    : text_.size();
+      newline_ =
+          nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
     }
     std::size_t end = newline_;
     const void* cr = std::memchr(start, '\r', newline_ - pos_);

@@ -96,8 +96,8 @@ void check_output_paths(const std::vector<std::string>& outputs, const std::stri
     if (exists && !force) throw_write_error(out, "it exists; pass --force to overwrite it");
     if (written_directly(status)) {
       if (access(target.c_str(), W_OK) != 0)
-        throw_write_error(out, std::string("it cannot be opened for writing: ") +
-                                   std::strerror(errno));
+        throw_write_error(out,
+                          std::string("it cannot be opened for writing: ") + std::strerror(errno));
     } else {
       const fs::path folder = folder_of(target);
       if (!fs::is_directory(folder, ec))

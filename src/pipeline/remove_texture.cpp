@@ -170,8 +170,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   // Input normals that are all zero (or were NaN: the reader zeroes those)
   // give no orientation to copy from neighbors: estimate them from the
   // positions, as when there are none.
-  const bool have_normals =
-      normals.rows() == P.rows() && (normals.array() != 0.0).any();
+  const bool have_normals = normals.rows() == P.rows() && (normals.array() != 0.0).any();
   if (normals.rows() == P.rows() && !have_normals) {
     rep.normals_reestimated = n;
     normals = Normals();
@@ -465,8 +464,8 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
     result.input_positions = std::move(original);
     result.texture_height *= back;
     RemoveTextureReport& r = result.report;
-    for (double* len : {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p,
-                        &r.mean_displacement})
+    for (double* len :
+         {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p, &r.mean_displacement})
       *len *= back;
   }
   return result;

@@ -22,8 +22,8 @@ struct ResourceLimitError : std::runtime_error {
 };
 
 struct NeighborhoodsMemoryEstimate {
-  std::size_t sampled = 0;      ///< points whose neighbors were counted
-  double mean_neighbors = 0.0;  ///< estimated mean |R_i| (self included, after the cap)
+  std::size_t sampled = 0;        ///< points whose neighbors were counted
+  double mean_neighbors = 0.0;    ///< estimated mean |R_i| (self included, after the cap)
   std::size_t max_neighbors = 0;  ///< largest |R_i| among the sampled points
   /// Estimated peak bytes of remove_texture: 4 bytes per neighbor index (plus
   /// 5% slack for the growing array) and kBytesPerPoint per point for

@@ -102,10 +102,6 @@ struct RemoveTextureReport {
   NeighborhoodStats neighbors;  ///< of R_i; sparse = fewer than 3 neighbors
   bool normals_estimated = false;
   std::size_t normals_reestimated = 0;     ///< zero-length input normals re-estimated
-  /// Points at exactly the position of an earlier point: the method ran on
-  /// the distinct positions and each copy got the result of the first.
-  std::size_t duplicates_merged = 0;
-  double estimated_bytes = 0.0;  ///< the memory guard's estimate of the peak (0 if not run)
   std::size_t normals_degenerate = 0;      ///< normals that could not be estimated (left zero)
   std::size_t normals_flipped = 0;         ///< by orientation
   double orientation_inconsistency = 0.0;  ///< of the normals fed to the filters
@@ -117,6 +113,10 @@ struct RemoveTextureReport {
   std::size_t update_isolated = 0;
   int update_iterations = 0;
   double mean_displacement = 0.0;
+  /// Points at exactly the position of an earlier point: the method ran on
+  /// the distinct positions and each copy got the result of the first.
+  std::size_t duplicates_merged = 0;
+  double estimated_bytes = 0.0;  ///< the memory guard's estimate of the peak (0 if not run)
   std::vector<StageTiming> timings;
 };
 
