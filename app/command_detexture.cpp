@@ -12,8 +12,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -173,7 +175,29 @@ void check_threads(int count) {
                              " or raise the process limits (ulimit -u, -v, -s)");
 }
 
+// Memory that runs out inside a parallel loop cannot be caught there (an
+// exception may not leave an OpenMP region): it ends in std::terminate. Say
+// what happened and exit with the resource code instead of aborting.
+[[noreturn]] void on_terminate() {
+  remove_temporary_outputs();
+  const char* message = "detexture: error: internal error (an unexpected exception)\n";
+  int code = kExitFailure;
+  try {
+    if (const std::exception_ptr e = std::current_exception()) std::rethrow_exception(e);
+  } catch (const std::bad_alloc&) {
+    message =
+        "detexture: error: out of memory; use a smaller --radius or --max-neighbors, fewer "
+        "--threads, or a machine with more memory\n";
+    code = kExitResource;
+  } catch (...) {
+  }
+  if (write(STDERR_FILENO, message, std::strlen(message)) < 0) {
+  }
+  _exit(code);
+}
+
 void install_signal_cleanup() {
+  std::set_terminate(on_terminate);
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);

@@ -75,9 +75,7 @@ class CliHardening : public ::testing::Test {
   std::string stderr_, input_bytes_;
 };
 
-bool one_line(const std::string& text) {
-  return text.find('\n') == text.size() - 1;
-}
+bool one_line(const std::string& text) { return text.find('\n') == text.size() - 1; }
 
 // --stats onto the input or the output, a texture layer onto the output:
 // each overwrote a file with exit 0. All are refused before any work.
@@ -112,13 +110,11 @@ TEST_F(CliHardening, BadOutputPathsFailAtOnce) {
   EXPECT_EQ(run(path("in.ply") + " -o " + path("nodir/x.ply")), 4) << stderr_;
   EXPECT_NE(stderr_.find("nodir' does not exist"), std::string::npos) << stderr_;
   EXPECT_EQ(stderr_.find("read "), std::string::npos) << stderr_;
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " --stats " + path("nodir/s.json")),
-            4);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " --stats " + path("nodir/s.json")), 4);
   EXPECT_EQ(run(path("in.ply") + " -o " + path("out.obj")), 2) << stderr_;
   EXPECT_NE(stderr_.find("the obj format is not supported"), std::string::npos) << stderr_;
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " --texture-layer " +
-                path("layer.obj")),
-            2);
+  EXPECT_EQ(
+      run(path("in.ply") + " -o " + path("out.ply") + " --texture-layer " + path("layer.obj")), 2);
   EXPECT_EQ(run(path("in.ply") + " -o " + dir_.string()), 4) << "a directory";
   EXPECT_TRUE(temporary_files().empty());
   EXPECT_FALSE(fs::exists(path("out.ply")));
@@ -147,8 +143,7 @@ TEST_F(CliHardening, DevicesAndLinksAreWrittenThroughNeverReplaced) {
   EXPECT_EQ(read_point_cloud(path("real.ply")).size(), 41u * 41u);
   // A dangling link: its target is created.
   fs::create_symlink(path("new.ply"), path("dangling.ply"));
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("dangling.ply") + " -r 0.2 --force"), 0)
-      << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("dangling.ply") + " -r 0.2 --force"), 0) << stderr_;
   EXPECT_TRUE(fs::is_symlink(path("dangling.ply")));
   EXPECT_EQ(read_point_cloud(path("new.ply")).size(), 41u * 41u);
   EXPECT_TRUE(temporary_files().empty());
@@ -235,6 +230,28 @@ TEST_F(CliHardening, ThreadCreationFailureIsAResourceError) {
       << stderr_;
   EXPECT_NE(stderr_.find("cannot start 4 worker threads"), std::string::npos) << stderr_;
   EXPECT_TRUE(one_line(stderr_)) << stderr_;
+}
+
+// std::bad_alloc reached the user as "error: std::bad_alloc", exit 1. With
+// the guard off and 400 MB of address space, 40k points whose neighborhoods
+// are the whole cloud (1.6e9 neighbors) run out of memory: exit 5.
+TEST_F(CliHardening, OutOfMemoryIsAResourceErrorNotBadAlloc) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no ulimit -v";
+#endif
+  PointCloud c;
+  const auto s = test::bumpy_plane(200, 0.03, 0.05);
+  c.positions = s.P;
+  c.normals = s.N;
+  write_point_cloud(path("40k.ply"), c);
+  EXPECT_EQ(run(path("40k.ply") + " -o " + path("out.ply") + " -r 10 --memory-limit none -j 1",
+                "ulimit -v 400000 && "),
+            5)
+      << stderr_;
+  EXPECT_NE(stderr_.find("error: out of memory; use a smaller --radius"), std::string::npos)
+      << stderr_;
+  EXPECT_EQ(stderr_.find("bad_alloc"), std::string::npos) << stderr_;
+  EXPECT_FALSE(fs::exists(path("out.ply")));
 }
 
 // The README's exit code table, every row driven (130 and 143 above; 1 is
