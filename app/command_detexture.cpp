@@ -2,18 +2,26 @@
 // over remove_texture(): parse, read, run, write, report. Every default shown
 // by --help is read from the library's parameter structs.
 #include <omp.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <exception>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "commands.h"
+#include "detexture/io/output_file.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "detexture/pipeline/remove_texture.h"
@@ -170,40 +178,97 @@ int print_scale_report(const std::string& input, FileFormat format,
 // The --stats file: flat JSON, one key per figure, stage times under "seconds".
 void write_stats(const std::string& path, std::size_t points, const RemoveTextureReport& r,
                  double read_s, double write_s, double peak_mib) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw OutputError(path + ": cannot be written");
+  std::string json;
+  auto add = [&json](const char* format, auto... values) {
+    char line[512];
+    std::snprintf(line, sizeof line, format, values...);
+    json += line;
+  };
   double total = read_s + write_s;
   for (const auto& t : r.timings) total += t.seconds;
-  std::fprintf(f, "{\n  \"points\": %zu,\n  \"threads\": %d,\n", points, omp_get_max_threads());
-  std::fprintf(f, "  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n",
-               r.diagonal, r.radius, r.lambda);
-  std::fprintf(f, "  \"sigma_s\": %.17g,\n  \"sigma_p\": %.17g,\n", r.sigma_s, r.sigma_p);
-  std::fprintf(f, "  \"radius_choice\": \"%s\",\n  \"radius_reason\": \"%s\",\n",
-               r.radius_choice.c_str(), json_text(r.radius_reason).c_str());
+  add("{\n  \"points\": %zu,\n  \"threads\": %d,\n", points, omp_get_max_threads());
+  add("  \"diagonal\": %.17g,\n  \"radius\": %.17g,\n  \"lambda\": %.17g,\n", r.diagonal, r.radius,
+      r.lambda);
+  add("  \"sigma_s\": %.17g,\n  \"sigma_p\": %.17g,\n", r.sigma_s, r.sigma_p);
+  add("  \"radius_choice\": \"%s\",\n  \"radius_reason\": \"%s\",\n", r.radius_choice.c_str(),
+      json_text(r.radius_reason).c_str());
   if (r.scale_estimated)
-    std::fprintf(f,
-                 "  \"scale\": {\"texture_found\": %s, \"texture_radius\": %.6g, "
-                 "\"texture_height\": %.6g, \"spacing\": %.6g, \"noise\": %.6g, "
-                 "\"samples\": %zu, \"reason\": \"%s\"},\n",
-                 r.scale.texture_found ? "true" : "false", r.scale.texture_radius,
-                 r.scale.texture_height, r.scale.spacing, r.scale.noise, r.scale.samples,
-                 json_text(r.scale.reason).c_str());
-  std::fprintf(
-      f, "  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
+    add("  \"scale\": {\"texture_found\": %s, \"texture_radius\": %.6g, "
+        "\"texture_height\": %.6g, \"spacing\": %.6g, \"noise\": %.6g, "
+        "\"samples\": %zu, \"reason\": \"%s\"},\n",
+        r.scale.texture_found ? "true" : "false", r.scale.texture_radius, r.scale.texture_height,
+        r.scale.spacing, r.scale.noise, r.scale.samples, json_text(r.scale.reason).c_str());
+  add("  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
-  std::fprintf(f, "  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
-  std::fprintf(f, "  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
-               r.texture_height, r.max_move, r.moves_limited);
-  std::fprintf(f, "  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n",
-               r.texture_points, r.ransac_mean_iterations);
-  std::fprintf(f, "  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n",
-               r.rolling_iterations, r.update_iterations);
-  std::fprintf(f, "  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib,
-               read_s);
-  for (const auto& t : r.timings)
-    std::fprintf(f, "    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
-  std::fprintf(f, "    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
-  if (std::fclose(f) != 0) throw OutputError(path + ": cannot be written");
+  add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
+  add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
+  add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
+      r.texture_height, r.max_move, r.moves_limited);
+  add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
+      r.ransac_mean_iterations);
+  add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
+      r.update_iterations);
+  add("  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib, read_s);
+  for (const auto& t : r.timings) add("    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
+  add("    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
+  write_text_file(path, json);  // temporary file renamed into place, like the clouds
+}
+
+// SIGINT and SIGTERM remove the hidden temporary outputs and exit 130 / 143,
+// the shell's codes for death by those signals.
+void on_interrupt(int signal_number) {
+  remove_temporary_outputs();
+  _exit(128 + signal_number);
+}
+
+// OpenMP's runtime ends the process ("libgomp: Thread creation failed", exit
+// 1) when it cannot start its threads, so they are tried first: a failure is
+// then a clear message and the resource exit code.
+void* idle(void*) { return nullptr; }
+void check_threads(int count) {
+  std::vector<pthread_t> started;
+  int error = 0;
+  for (int t = 1; t < count && error == 0; ++t) {
+    pthread_t thread;
+    error = pthread_create(&thread, nullptr, idle, nullptr);
+    if (error == 0) started.push_back(thread);
+  }
+  for (pthread_t thread : started) pthread_join(thread, nullptr);
+  if (error != 0)
+    throw ResourceLimitError("cannot start " + std::to_string(count) + " worker threads (" +
+                             std::strerror(error) + "); use --threads " +
+                             std::to_string(std::max<std::size_t>(1, started.size())) +
+                             " or raise the process limits (ulimit -u, -v, -s)");
+}
+
+// Memory that runs out inside a parallel loop cannot be caught there (an
+// exception may not leave an OpenMP region): it ends in std::terminate. Say
+// what happened and exit with the resource code instead of aborting.
+[[noreturn]] void on_terminate() {
+  remove_temporary_outputs();
+  const char* message = "detexture: error: internal error (an unexpected exception)\n";
+  int code = kExitFailure;
+  try {
+    if (const std::exception_ptr e = std::current_exception()) std::rethrow_exception(e);
+  } catch (const std::bad_alloc&) {
+    message =
+        "detexture: error: out of memory; use a smaller --radius or --max-neighbors, fewer "
+        "--threads, or a machine with more memory\n";
+    code = kExitResource;
+  } catch (...) {
+  }
+  if (write(STDERR_FILENO, message, std::strlen(message)) < 0) {
+  }
+  _exit(code);
+}
+
+void install_signal_cleanup() {
+  std::set_terminate(on_terminate);
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP})
+    sigaction(signal_number, &action, nullptr);
 }
 
 }  // namespace
@@ -362,6 +427,19 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--max-neighbors", params.max_neighbors,
                  "Keep at most this many nearest neighbors in R_i (0 = no cap)")
       ->capture_default_str();
+  app.add_option_function<std::string>(
+         "--memory-limit",
+         [&params](const std::string& text) {
+           try {
+             params.memory_limit = parse_memory_size(text);
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError("--memory-limit", e.what());
+           }
+         },
+         "Refuse a run whose neighborhoods would need more memory than this (estimated from a "
+         "sample before they are built): bytes, or 500M, 4G; 'none' for no limit [default: 80% "
+         "of the physical memory]")
+      ->type_name("SIZE");
   app.add_option("--normal-neighbors", params.normal_neighbors,
                  "k nearest neighbors for estimating and orienting normals when the input has "
                  "none")
@@ -409,6 +487,7 @@ int run_detexture(int argc, char** argv) {
     params.allow_large_radius = force;
     validate(params);
     if (threads > 0) omp_set_num_threads(threads);
+    check_threads(omp_get_max_threads());
     const FileFormat in_format = parse_file_format(format_in);
     const FileFormat out_format = parse_file_format(format_out);
     WriteOptions write_options;
@@ -424,21 +503,28 @@ int run_detexture(int argc, char** argv) {
       throw std::invalid_argument("--encoding must be binary, ascii or binary-big-endian");
     if (scale_report) return print_scale_report(input, in_format, params);
     // Check the outputs before the work, so a long run does not end in a refusal.
-    for (const std::string& path : {output, texture_layer}) {
-      if (path.empty()) continue;
-      if (out_format == FileFormat::Auto) (void)format_from_extension(path);
-      if (!force && std::filesystem::exists(path))
-        throw OutputError(path + ": exists; pass --force to overwrite it");
-      std::error_code ec;
-      if (std::filesystem::exists(input) && std::filesystem::equivalent(input, path, ec))
-        throw OutputError(path + ": is the input file; refusing to overwrite it");
+    try {
+      check_output_paths({output, texture_layer, stats_path}, input, force);
+    } catch (const std::runtime_error& e) {
+      throw OutputError(e.what());
     }
+    for (const std::string& path : {output, texture_layer}) {
+      if (path.empty() || out_format != FileFormat::Auto) continue;
+      try {
+        (void)format_from_extension(path);
+      } catch (const std::runtime_error& e) {
+        throw std::invalid_argument(e.what());  // a usage error: exit 2
+      }
+    }
+    install_signal_cleanup();
 
     const auto t0 = std::chrono::steady_clock::now();
     PointCloud cloud;
     ReadReport read_report;
     try {
       cloud = read_point_cloud(input, in_format, &read_report);
+    } catch (const std::bad_alloc&) {
+      throw;  // a resource limit, not a bad file
     } catch (const std::exception& e) {
       throw InputError(e.what());
     }
@@ -458,6 +544,10 @@ int run_detexture(int argc, char** argv) {
     RemoveTextureResult result =
         remove_texture(std::move(cloud.positions), std::move(normals), params, printer.observer());
     cloud.positions = std::move(result.input_positions);
+    if (result.report.duplicates_merged > 0)
+      printer.note("detexture: note: " + std::to_string(result.report.duplicates_merged) +
+                   " points lie exactly on an earlier point; the method ran on the distinct "
+                   "positions and each copy got the result of the first");
 
     const auto t1 = std::chrono::steady_clock::now();
     PointCloud out = cloud;
@@ -481,6 +571,8 @@ int run_detexture(int argc, char** argv) {
                                 result.texture_height.data() + result.texture_height.size()));
         write_point_cloud(texture_layer, layer, write_options);
       }
+    } catch (const std::bad_alloc&) {
+      throw;
     } catch (const std::exception& e) {
       throw OutputError(e.what());
     }
@@ -490,8 +582,11 @@ int run_detexture(int argc, char** argv) {
     struct rusage usage {};
     getrusage(RUSAGE_SELF, &usage);
     const double peak_mib = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
-    if (!stats_path.empty())
-      write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib);
+    if (!stats_path.empty()) try {
+        write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib);
+      } catch (const std::runtime_error& e) {
+        throw OutputError(e.what());
+      }
     if (!quiet) {
       const auto& r = result.report;
       double total = read_s + write_s;
@@ -534,6 +629,14 @@ int run_detexture(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "detexture: error: %s\n", e.what());
     return kExitUsage;
+  } catch (const ResourceLimitError& e) {
+    std::fprintf(stderr, "detexture: error: %s\n", e.what());
+    return kExitResource;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "detexture: error: out of memory; use a smaller --radius or --max-neighbors, "
+                 "fewer --threads, or a machine with more memory\n");
+    return kExitResource;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "detexture: error: %s\n", e.what());
     return kExitFailure;

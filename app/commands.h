@@ -8,10 +8,11 @@ namespace detexture::app {
 /// Exit codes, documented in README.md.
 enum ExitCode : int {
   kExitOk = 0,
-  kExitFailure = 1,  ///< unexpected internal error
-  kExitUsage = 2,    ///< bad command line or parameter value
-  kExitInput = 3,    ///< the input file is missing, unreadable or malformed
-  kExitOutput = 4,   ///< the output could not be written (or would overwrite the input)
+  kExitFailure = 1,   ///< unexpected internal error
+  kExitUsage = 2,     ///< bad command line or parameter value
+  kExitInput = 3,     ///< the input file is missing, unreadable or malformed
+  kExitOutput = 4,    ///< an output cannot be written, or would overwrite the input or an output
+  kExitResource = 5,  ///< a resource limit: memory (--memory-limit, out of memory) or threads
 };
 
 int run_detexture(int argc, char** argv);

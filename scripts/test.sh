@@ -1,7 +1,27 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds detexture with its tests and runs the whole
-# suite under ctest (its summary line closes the output).
+# suite under ctest, then builds it again with AddressSanitizer and
+# UndefinedBehaviorSanitizer (build-asan/) and runs the suite there too. Each
+# ctest prints its summary line; the fuzz smoke runs are part of the first
+# suite when clang is installed (scripts/install_fuzz_deps.sh, called here).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/install_deps.sh
+bash scripts/install_fuzz_deps.sh
 bash scripts/build.sh
+start=$(date +%s)
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+echo "test.sh: Release suite took $(( $(date +%s) - start )) s"
+
+start=$(date +%s)
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
+  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
+  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DDETEXTURE_FUZZ_SMOKE=OFF >/dev/null
+cmake --build build-asan -j "$(nproc)"
+echo "test.sh: sanitizer build took $(( $(date +%s) - start )) s"
+start=$(date +%s)
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build-asan --output-on-failure -j "$(nproc)"
+echo "test.sh: sanitizer suite took $(( $(date +%s) - start )) s"

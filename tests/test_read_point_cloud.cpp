@@ -344,7 +344,11 @@ std::vector<BadInput> bad_inputs() {
        "a.ply",
        ply_ascii("element vertex 1\nproperty float x\nproperty float128 y\n"),
        {"line 5", "float128"}},
-      {"unknown keyword", "a.ply", ply_ascii("elephant vertex 1\n"), {"line 3", "elephant"}},
+      // (before the first element an unknown line is kept as a comment)
+      {"unknown keyword",
+       "a.ply",
+       ply_ascii("element vertex 1\nproperty float x\nelephant 1\n"),
+       {"line 5", "elephant"}},
       {"missing end_header",
        "a.ply",
        ply_ascii("element vertex 1\nproperty float x\nproperty float y\nproperty float z\n"),

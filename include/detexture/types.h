@@ -22,6 +22,8 @@ using ProgressFn = std::function<void(double fraction)>;
 std::string number_text(double value);
 
 /// Length of the bounding-box diagonal of P (0 for fewer than two points).
+/// Without overflow or underflow for any extent a double can hold (±1e300,
+/// ±1e-300); inf only when the extent itself exceeds the largest double.
 double bounding_box_diagonal(const Positions& P);
 
 }  // namespace detexture

@@ -114,11 +114,21 @@ class NeighborSorter {
     for (std::size_t b = 0; b < k; ++b) start_[b + 1] += start_[b];
     sorted_.resize(k);
     for (std::size_t t = 0; t < k; ++t) sorted_[start_[bucket_[t]]++] = keys[t];
+    // Many keys in one bucket (near-duplicate points, one far neighbor) would
+    // make the insertion sort quadratic: past 8 moves per key on average,
+    // std::sort finishes instead. The order is the same (keys are distinct).
+    std::size_t moves = 0;
+    const std::size_t max_moves = 8 * k + 64;
     for (std::size_t t = 1; t < k; ++t) {
       const std::uint64_t key = sorted_[t];
       std::size_t s = t;
       for (; s > 0 && sorted_[s - 1] > key; --s) sorted_[s] = sorted_[s - 1];
       sorted_[s] = key;
+      moves += t - s;
+      if (moves > max_moves) {
+        std::sort(sorted_.begin(), sorted_.end());
+        break;
+      }
     }
     keep = std::min(keep, k);
     for (std::size_t t = 0; t < keep; ++t) out.push_back(static_cast<std::uint32_t>(sorted_[t]));

@@ -24,7 +24,8 @@ namespace detexture::io_detail {
 inline std::string at_line(std::size_t line) { return "line " + std::to_string(line); }
 inline std::string at_byte(std::size_t offset) { return "byte " + std::to_string(offset); }
 
-/// Walks text one line at a time; accepts "\n" and "\r\n" endings.
+/// Walks text one line at a time; accepts "\n", "\r\n" and lone "\r"
+/// (old Mac) line endings, in any mix.
 class TextLines {
  public:
   /// text starts at line first_line (1-based) of the file.
@@ -35,12 +36,25 @@ class TextLines {
   bool next(std::string_view* line) {
     if (pos_ >= text_.size()) return false;
     const char* start = text_.data() + pos_;
-    const void* nl = std::memchr(start, '\n', text_.size() - pos_);
-    const std::size_t length =
-        nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - start) : text_.size() - pos_;
-    pos_ += nl ? length + 1 : length;
+    // The next '\n' is searched once and remembered, so that a file with
+    // lone '\r' endings is not rescanned to its end for every line.
+    if (!newline_known_ || newline_ < pos_) {
+      newline_known_ = true;
+      const void* nl = std::memchr(start, '\n', text_.size() - pos_);
+      newline_ =
+          nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - text_.data()) : text_.size();
+    }
+    std::size_t end = newline_;
+    const void* cr = std::memchr(start, '\r', newline_ - pos_);
+    if (cr) end = static_cast<std::size_t>(static_cast<const char*>(cr) - text_.data());
+    const std::size_t length = end - pos_;
+    if (end == text_.size())
+      pos_ = end;
+    else if (text_[end] == '\r' && end + 1 < text_.size() && text_[end + 1] == '\n')
+      pos_ = end + 2;
+    else
+      pos_ = end + 1;
     *line = std::string_view(start, length);
-    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
     line_ = next_line_++;
     return true;
   }
@@ -54,6 +68,8 @@ class TextLines {
  private:
   std::string_view text_;
   std::size_t pos_ = 0;
+  std::size_t newline_ = 0;  ///< offset of the next '\n' (or the end), once known
+  bool newline_known_ = false;
   std::size_t next_line_;
   std::size_t line_;
 };

@@ -341,6 +341,7 @@ void read_elements(Rows& rows, const PlyHeader& header, VertexLayout& layout, Po
 
 PointCloud read_ply(std::string_view bytes, const std::string& path, ReadReport& report) {
   const PlyHeader header = parse_ply_header(bytes, path);
+  for (const std::string& notice : header.notices) report.notices.push_back(notice);
   const PlyElement* vertex = nullptr;
   for (const PlyElement& element : header.elements)
     if (element.name == "vertex") vertex = &element;
@@ -354,11 +355,21 @@ PointCloud read_ply(std::string_view bytes, const std::string& path, ReadReport&
 
   PointCloud cloud;
   cloud.comments = header.comments;
-  // Keep single precision when the file had it, so output files do not double.
-  for (const PlyProperty& p : vertex->properties) {
-    if (p.name == "x" && p.type == ScalarType::Float32) cloud.position_type = ScalarType::Float32;
-    if (p.name == "nx" && p.type == ScalarType::Float32) cloud.normal_type = ScalarType::Float32;
-  }
+  // Keep single precision when the file had it for all three components, so
+  // output files do not double; one double component (float x, double y z)
+  // makes all three double, so that no value is narrowed.
+  auto all_float = [&](std::initializer_list<const char*> names) {
+    int found = 0;
+    for (const PlyProperty& p : vertex->properties)
+      for (const char* name : names)
+        if (p.name == name) {
+          if (p.is_list || p.type != ScalarType::Float32) return false;
+          ++found;
+        }
+    return found == 3;
+  };
+  if (all_float({"x", "y", "z"})) cloud.position_type = ScalarType::Float32;
+  if (layout.has_normals && all_float({"nx", "ny", "nz"})) cloud.normal_type = ScalarType::Float32;
   if (header.encoding == PlyEncoding::Ascii) {
     AsciiRows rows(bytes, header, path);
     read_elements(rows, header, layout, cloud, report);

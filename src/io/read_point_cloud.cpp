@@ -28,6 +28,11 @@ FileFormat format_from_extension(const std::string& path) {
   if (ext == ".ply") return FileFormat::Ply;
   if (ext == ".xyz" || ext == ".xyzn" || ext == ".txt" || ext == ".pts" || ext == ".csv")
     return FileFormat::Xyz;
+  for (const char* other : {".obj", ".off", ".stl", ".pcd", ".las", ".laz", ".e57", ".gltf"})
+    if (ext == other)
+      throw std::runtime_error("'" + path + "': the " + ext.substr(1) +
+                               " format is not supported (yet); convert it to .ply, e.g. with "
+                               "MeshLab, CloudCompare or 'assimp export'");
   throw std::runtime_error(
       "cannot tell the format of '" + path + "' from its extension" +
       (ext.empty() ? std::string() : " '" + ext + "'") +
@@ -36,7 +41,56 @@ FileFormat format_from_extension(const std::string& path) {
 
 namespace {
 
-std::string read_file_bytes(const std::string& path) {
+// Checks a pipe or device while it is read, since its size is not known
+// beforehand: the same bounds as the parsers check on a regular file, applied
+// as the bytes arrive, so that /dev/zero or an endless stream fails after its
+// first bytes instead of after filling the memory.
+class StreamBounds {
+ public:
+  StreamBounds(const std::string& path, FileFormat format) : path_(path), format_(format) {}
+
+  void check(const std::string& bytes, std::size_t from) {
+    if (bytes.size() > kMaxStreamBytes)
+      io_detail::throw_read_error(path_, "",
+                                  "a pipe or device is read up to " +
+                                      std::to_string(kMaxStreamBytes >> 30) +
+                                      " GiB; save it to a file first");
+    if (format_ == FileFormat::Ply) {
+      if (header_done_) return;
+      if (bytes.size() >= 3 && bytes.compare(0, 3, "ply") != 0)
+        io_detail::throw_read_error(path_, "line 1",
+                                    "not a PLY file: the first line must be 'ply'");
+      const std::size_t back = from >= 12 ? from - 12 : 0;
+      if (bytes.find("end_header", back) != std::string::npos)
+        header_done_ = true;
+      else if (bytes.size() > kMaxPlyHeaderBytes)
+        io_detail::throw_read_error(path_, "",
+                                    "the header is longer than " +
+                                        std::to_string(kMaxPlyHeaderBytes >> 20) +
+                                        " MiB without an 'end_header' line");
+      return;
+    }
+    for (std::size_t i = from; i < bytes.size(); ++i) {
+      if (bytes[i] == '\0')
+        io_detail::throw_read_error(path_, "byte " + std::to_string(i),
+                                    "a NUL byte; this is binary data, not a text point cloud");
+      line_length_ = (bytes[i] == '\n' || bytes[i] == '\r') ? 0 : line_length_ + 1;
+      if (line_length_ > kMaxTextLineBytes)
+        io_detail::throw_read_error(path_, "byte " + std::to_string(i),
+                                    "a line longer than " +
+                                        std::to_string(kMaxTextLineBytes >> 20) +
+                                        " MiB; this is not a text point cloud the reader accepts");
+    }
+  }
+
+ private:
+  const std::string& path_;
+  FileFormat format_;
+  bool header_done_ = false;
+  std::size_t line_length_ = 0;
+};
+
+std::string read_file_bytes(const std::string& path, FileFormat format) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -46,13 +100,18 @@ std::string read_file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) io_detail::throw_read_error(path, "", "the file cannot be opened (permissions?)");
   std::string bytes;
-  if (fs::is_regular_file(status)) {
+  const bool regular = fs::is_regular_file(status);
+  if (regular) {
     const auto size = fs::file_size(path, ec);
     if (!ec) bytes.reserve(size);
   }
+  StreamBounds bounds(path, format);
   char buffer[1 << 16];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    const std::size_t from = bytes.size();
     bytes.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (!regular) bounds.check(bytes, from);
+  }
   if (in.bad()) io_detail::throw_read_error(path, "", "reading the file failed");
   return bytes;
 }
@@ -82,7 +141,7 @@ std::size_t normalize_normals(Normals& N) {
 
 PointCloud read_point_cloud(const std::string& path, FileFormat format, ReadReport* report) {
   if (format == FileFormat::Auto) format = format_from_extension(path);
-  const std::string bytes = read_file_bytes(path);
+  const std::string bytes = read_file_bytes(path, format);
   ReadReport local;
   ReadReport& r = report ? *report : local;
   r = ReadReport{};

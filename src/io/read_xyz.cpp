@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,14 @@ PointCloud read_xyz(std::string_view bytes, const std::string& path, ReadReport&
   std::uint64_t declared = 0;
   std::size_t declared_line = 0;
   while (lines.next(&line)) {
+    if (line.size() > kMaxTextLineBytes)
+      throw_read_error(path, at_line(lines.line()),
+                       "the line is " + std::to_string(line.size()) + " bytes long, more than " +
+                           std::to_string(kMaxTextLineBytes >> 20) +
+                           " MiB; this is not a text point cloud the reader accepts");
+    if (std::memchr(line.data(), '\0', line.size()))
+      throw_read_error(path, at_line(lines.line()),
+                       "a NUL byte; this is binary data, not a text point cloud");
     line = line.substr(0, line.find('#'));
     const std::string problem = split_fields(line, &fields);
     if (!problem.empty()) throw_read_error(path, at_line(lines.line()), problem);
@@ -65,6 +74,10 @@ PointCloud read_xyz(std::string_view bytes, const std::string& path, ReadReport&
         throw_read_error(path, at_line(lines.line()),
                          std::to_string(fields.size()) +
                              " values; expected 3 (x y z) or at least 6 (x y z nx ny nz ...)");
+      if (fields.size() > kMaxXyzColumns)
+        throw_read_error(path, at_line(lines.line()),
+                         std::to_string(fields.size()) + " values, more than the " +
+                             std::to_string(kMaxXyzColumns) + " columns the reader accepts");
       columns = fields.size();
       first_row_line = lines.line();
     } else if (fields.size() != columns) {

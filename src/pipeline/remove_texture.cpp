@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "detexture/geometry/estimate_normals.h"
@@ -163,6 +166,33 @@ void warn(const PipelineObserver& observer, const std::string& message) {
 
 namespace {
 
+// The memory guard: refuse before building neighborhoods that would not fit.
+void check_memory(const Positions& P, const RemoveTextureParams& params, RemoveTextureReport& rep) {
+  const std::uint64_t limit =
+      params.memory_limit != 0 ? params.memory_limit : default_memory_limit();
+  if (limit == 0 || limit == std::numeric_limits<std::uint64_t>::max()) return;
+  constexpr std::size_t kSamples = 256;
+  const NeighborhoodsMemoryEstimate e = estimate_neighborhoods_memory(
+      P, {rep.radius, params.max_neighbors}, kSamples, static_cast<double>(limit));
+  rep.estimated_bytes = e.bytes;
+  if (e.bytes <= static_cast<double>(limit)) return;
+  const bool early = e.sampled < std::min<std::size_t>(kSamples, P.rows());
+  const double n = static_cast<double>(P.rows());
+  const double fitting = (static_cast<double>(limit) / n - kBytesPerPoint) / (4.0 * 1.05);
+  char mean[32];
+  std::snprintf(mean, sizeof mean, "%.0f", e.mean_neighbors);
+  std::string advice = "use a smaller --radius (neighbors grow as r squared)";
+  if (fitting >= 3.0)
+    advice += ", or --max-neighbors " + std::to_string(static_cast<long long>(fitting * 0.9));
+  throw ResourceLimitError(
+      std::string("the neighborhoods would need ") + (early ? "at least " : "about ") +
+      memory_size_text(e.bytes) + " (" + mean + " neighbors per point on average, counted on " +
+      std::to_string(e.sampled) + " sample point" + (e.sampled == 1 ? "" : "s") + ", for " +
+      std::to_string(P.rows()) + " points), more than the memory limit of " +
+      memory_size_text(static_cast<double>(limit)) + "; " + advice +
+      ", or raise --memory-limit (default 80% of the physical memory)");
+}
+
 // The method on points already in spatial order (see remove_texture).
 RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                                            const RemoveTextureParams& params,
@@ -208,6 +238,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   Neighborhoods R;
   {
     StageClock clock(observer, rep, "neighborhoods");
+    check_memory(P, params, rep);
     R = radius_neighborhoods(P, {rep.radius, params.max_neighbors}, clock.progress());
     rep.neighbors = neighborhood_stats(R, 3);
   }
@@ -229,7 +260,14 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
 
   // Normals: estimated on a small k-NN neighborhood, so that they describe the
   // textured surface (the filters expect that) and stay sharp at creases.
-  const bool have_normals = normals.rows() == P.rows();
+  // Input normals that are all zero (or were NaN: the reader zeroes those)
+  // give no orientation to copy from neighbors: estimate them from the
+  // positions, as when there are none.
+  const bool have_normals = normals.rows() == P.rows() && (normals.array() != 0.0).any();
+  if (normals.rows() == P.rows() && !have_normals) {
+    rep.normals_reestimated = n;
+    normals = Normals();
+  }
   if (!have_normals || params.reorient) {
     StageClock clock(observer, rep, have_normals ? "orient normals" : "estimate normals");
     const Neighborhoods K = knn_neighborhoods(P, params.normal_neighbors);
@@ -359,6 +397,62 @@ std::vector<T> unpermute(const std::vector<T>& v, const std::vector<std::uint32_
 
 }  // namespace
 
+namespace {
+
+// For each point, the index of the first point at exactly the same position
+// (itself if none): an open-addressing table of 4-byte slots, linear time.
+// Returns false, leaving *first empty, when there are no duplicates.
+bool find_exact_duplicates(const Positions& P, std::vector<std::uint32_t>* first) {
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  std::size_t size = 16;
+  while (size < 2 * n) size *= 2;
+  constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> table(size, kEmpty);
+  std::vector<std::uint32_t> result;
+  auto bits = [](double v) {
+    v += 0.0;  // -0 and +0 are the same position
+    std::uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t h = bits(P(i, 0)) * 0x9E3779B97F4A7C15ull;
+    h = (h ^ (h >> 29) ^ bits(P(i, 1))) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 31) ^ bits(P(i, 2))) * 0x94D049BB133111EBull;
+    h ^= h >> 32;
+    std::size_t slot = static_cast<std::size_t>(h) & (size - 1);
+    std::uint32_t rep = static_cast<std::uint32_t>(i);
+    for (; table[slot] != kEmpty; slot = (slot + 1) & (size - 1)) {
+      const std::uint32_t j = table[slot];
+      if (P(j, 0) == P(i, 0) && P(j, 1) == P(i, 1) && P(j, 2) == P(i, 2)) {
+        rep = j;
+        break;
+      }
+    }
+    if (table[slot] == kEmpty) table[slot] = rep;
+    if (rep != i && result.empty()) {
+      result.resize(n);
+      for (std::size_t k = 0; k < i; ++k) result[k] = static_cast<std::uint32_t>(k);
+    }
+    if (!result.empty()) result[i] = rep;
+  }
+  *first = std::move(result);
+  return !first->empty();
+}
+
+// Lengths in the cloud's units, times 2^shift (exact).
+RemoveTextureParams scaled_lengths(RemoveTextureParams p, int shift) {
+  for (Length* len : {&p.radius, &p.lambda, &p.sigma_s, &p.sigma_p, &p.solve_radius})
+    if (len->unit == Length::Unit::Absolute) len->value = std::ldexp(len->value, shift);
+  return p;
+}
+
+RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
+                                          const RemoveTextureParams& params,
+                                          const PipelineObserver& observer);
+
+}  // namespace
+
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
   validate(params);
@@ -366,6 +460,92 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTex
   if (n == 0) throw std::invalid_argument("the point cloud is empty");
   if (normals.rows() != 0 && normals.rows() != P.rows())
     throw std::invalid_argument("there must be as many normals as points, or none");
+  if (n >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("clouds of more than 2^32-1 points are not supported");
+
+  // Exact duplicates (merged scans) made every neighborhood around them hold
+  // all of them: 5000 copies of a point took 19 s, 10000 did not finish. An
+  // exact duplicate adds no geometry, so the method runs on the distinct
+  // positions (the first point's normal, or the first non-zero one) and every
+  // copy gets the result of the first. Clouds without duplicates take the
+  // path below unchanged.
+  std::vector<std::uint32_t> first;
+  if (find_exact_duplicates(P, &first)) {
+    std::vector<std::uint32_t> unique_index(n);
+    std::vector<std::uint32_t> unique_rows;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (first[i] == i) {
+        unique_index[i] = static_cast<std::uint32_t>(unique_rows.size());
+        unique_rows.push_back(static_cast<std::uint32_t>(i));
+      } else {
+        unique_index[i] = unique_index[first[i]];
+      }
+    }
+    const auto m = static_cast<Eigen::Index>(unique_rows.size());
+    Positions UP(m, 3);
+    Normals UN(normals.rows() != 0 ? m : 0, 3);
+    for (Eigen::Index k = 0; k < m; ++k) UP.row(k) = P.row(unique_rows[k]);
+    if (UN.rows() != 0) {
+      UN.setZero();
+      for (std::size_t i = 0; i < n; ++i) {
+        auto row = UN.row(unique_index[i]);
+        if (row.squaredNorm() == 0.0) row = normals.row(static_cast<Eigen::Index>(i));
+      }
+    }
+    Normals input_normals = std::move(normals);
+    RemoveTextureResult u = remove_texture_unique(std::move(UP), std::move(UN), params, observer);
+    RemoveTextureResult result;
+    result.report = std::move(u.report);
+    result.report.duplicates_merged = n - unique_rows.size();
+    result.positions.resize(static_cast<Eigen::Index>(n), 3);
+    result.normals.resize(static_cast<Eigen::Index>(n), 3);
+    result.input_normals.resize(static_cast<Eigen::Index>(n), 3);
+    result.is_texture.resize(n);
+    result.texture_height.resize(static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto r = static_cast<Eigen::Index>(i);
+      const Eigen::Index k = unique_index[i];
+      result.positions.row(r) = u.positions.row(k);
+      result.normals.row(r) = u.normals.row(k);
+      // A copy keeps its own input normal where it had a usable one.
+      result.input_normals.row(r) =
+          input_normals.rows() != 0 && input_normals.row(r).squaredNorm() != 0.0
+              ? Eigen::RowVector3d(input_normals.row(r))
+              : Eigen::RowVector3d(u.input_normals.row(k));
+      result.is_texture[i] = u.is_texture[static_cast<std::size_t>(k)];
+      result.texture_height(r) = u.texture_height(k);
+    }
+    std::size_t texture = 0;
+    for (const std::uint8_t t : result.is_texture) texture += t;
+    result.report.texture_points = texture;
+    result.input_positions = std::move(P);
+    return result;
+  }
+  return remove_texture_unique(std::move(P), std::move(normals), params, observer);
+}
+
+namespace {
+
+RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
+                                          const RemoveTextureParams& original_params,
+                                          const PipelineObserver& observer) {
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  // Clouds whose extent is beyond 2^±64 are scaled by a power of two (exact)
+  // so that squared distances neither overflow (±1e300 coordinates) nor
+  // underflow (±1e-300), and scaled back at the end. Other clouds are
+  // untouched.
+  int shift = 0;
+  {
+    const double d = bounding_box_diagonal(P);
+    if (d > 0.0 && std::isfinite(d) && (d > 0x1p64 || d < 0x1p-64)) shift = -std::ilogb(d);
+  }
+  const RemoveTextureParams params =
+      shift == 0 ? original_params : scaled_lengths(original_params, shift);
+  Positions original;  // kept whole, since scaling back could round a coordinate
+  if (shift != 0) {
+    original = P;
+    P *= std::ldexp(1.0, shift);
+  }
 
   // Work on the points in Morton order, so that neighbors are near each other
   // in memory (3-4x faster on clouds stored in random order), and give the
@@ -392,7 +572,19 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTex
   Eigen::VectorXd height(static_cast<Eigen::Index>(n));
   for (std::size_t k = 0; k < n; ++k) height(order[k]) = result.texture_height(k);
   result.texture_height = std::move(height);
+  if (shift != 0) {
+    const double back = std::ldexp(1.0, -shift);
+    result.positions *= back;
+    result.input_positions = std::move(original);
+    result.texture_height *= back;
+    RemoveTextureReport& r = result.report;
+    for (double* len :
+         {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p, &r.mean_displacement})
+      *len *= back;
+  }
   return result;
 }
+
+}  // namespace
 
 }  // namespace detexture

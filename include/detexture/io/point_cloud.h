@@ -62,7 +62,9 @@ struct PointCloud {
   std::vector<std::string> comments;
   /// Precision of x, y, z (and of nx, ny, nz) in a PLY output: Float32 or
   /// Float64 (any other type is written as Float64). The reader sets Float32
-  /// when the file stored them as float, so outputs keep the input's size.
+  /// only when the file stored all three as float, so outputs keep the input's
+  /// size; one double component (float x, double y z) makes all three double.
+  /// The writer also uses double when a value lies beyond float's range.
   ScalarType position_type = ScalarType::Float64;
   ScalarType normal_type = ScalarType::Float64;
 

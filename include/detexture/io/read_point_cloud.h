@@ -8,18 +8,23 @@
 // list properties of the vertex element are skipped with a notice. Other
 // elements (faces, edges, ...) go to PointCloud::other_elements, comment and
 // obj_info lines to PointCloud::comments ("obj_info ..." kept whole). Ascii
-// rows are one per line; CRLF line endings are accepted. Bytes after the last
+// rows are one per line; CRLF and lone CR line endings are accepted. An
+// unknown header line before the first element (old Blender's bare "Created
+// by ...") is kept as a comment, with a notice. Bytes after the last
 // element of a binary file are ignored with a notice; in an ascii file any
 // further non-blank line is an error.
 //
 // XYZ: one point per line, "x y z" or "x y z nx ny nz ...", values separated
 // by blanks or by commas (an empty field "1,,2" is an error). '#' starts a
-// comment; blank lines are ignored. A first line holding a single integer is
+// comment; blank lines are ignored. Lines end in "\n", "\r\n" or a lone
+// "\r" (old Mac files). A first line holding a single integer is
 // a .pts point count and must match the number of rows. Every row must have
 // the same number of columns: 3, or at least 6. Columns after the sixth are
 // kept as float64 extras named field6, field7, ... (0-based column index).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +33,21 @@
 namespace detexture {
 
 enum class FileFormat { Auto, Ply, Xyz };
+
+/// Bounds on what the readers accept, so that a broken or hostile file fails
+/// at once with a message naming it instead of exhausting memory or time.
+/// Real files stay far below them.
+/// A PLY header (up to and including "end_header"): 64 MiB, about 2.5 million
+/// property lines.
+constexpr std::size_t kMaxPlyHeaderBytes = std::size_t(64) << 20;
+/// One line of an XYZ file: 1 MiB.
+constexpr std::size_t kMaxTextLineBytes = std::size_t(1) << 20;
+/// Columns of an XYZ row: x y z nx ny nz and up to 1018 extras.
+constexpr std::size_t kMaxXyzColumns = 1024;
+/// A pipe, device or other non-regular file (whose size is not known
+/// beforehand) is read up to 4 GiB; the text and header bounds above are
+/// also checked while it is read, so /dev/zero fails after its first bytes.
+constexpr std::uint64_t kMaxStreamBytes = std::uint64_t(4) << 30;
 
 /// Parse "auto", "ply" or "xyz" (as given to --format); throws
 /// std::invalid_argument with a sentence for anything else.
@@ -49,7 +69,8 @@ struct ReadReport {
 /// and says what is wrong and where (line or byte offset) for: a missing or
 /// unreadable file, a bad or unsupported header, truncated binary data, a
 /// vertex count that does not match the data, a non-numeric token, NaN or Inf
-/// coordinates, missing x/y/z, an empty cloud, or an unknown format.
+/// coordinates, missing x/y/z, an empty cloud, an unknown format, or input
+/// beyond the bounds above (kMaxPlyHeaderBytes, ...).
 /// Points with NaN or Inf coordinates are refused, not dropped: dropping would
 /// silently break the correspondence with faces and with other files.
 /// Input normals are normalized; zero-length ones, and ones with a NaN or Inf

@@ -19,7 +19,9 @@ struct WriteOptions {
 
 /// Write a point cloud atomically: the data goes to a temporary file in the
 /// target folder, which is renamed over `path` only when complete, so a failure
-/// never leaves a half-written file nor touches an existing one.
+/// never leaves a half-written file nor touches an existing one (OutputFile in
+/// output_file.h: a symbolic link is followed and stays a link; a character
+/// device such as /dev/null, or a FIFO, is written directly, never replaced).
 ///
 /// PLY: the comments, then the vertex element with x y z (and nx ny nz) as
 /// double and the extras in their own types, then the other elements in

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "detexture/geometry/drop_opposite_neighbors.h"
+#include "detexture/geometry/estimate_neighborhoods_memory.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/estimate_texture_scale.h"
@@ -99,6 +100,12 @@ struct RemoveTextureParams {
   int normal_neighbors = 16;
   /// Re-orient the input normals consistently (Hoppe MST) before filtering.
   bool reorient = false;
+  /// Memory guard, bytes: before the neighborhoods are built their size is
+  /// estimated from a sample (estimate_neighborhoods_memory.h), and a run
+  /// that would need more is refused with a ResourceLimitError saying what
+  /// to change. 0 = 80% of the physical memory (default_memory_limit());
+  /// the largest uint64 = no limit.
+  std::uint64_t memory_limit = 0;
 
   /// Neighbors facing away from p_i by more than this angle are on another
   /// sheet of a thin part and leave R_i (drop_opposite_neighbors.h).
@@ -165,6 +172,10 @@ struct RemoveTextureReport {
   double texture_height = 0.0;   ///< 99th percentile of the texture points' heights above their fitted surfaces
   double max_move = 0.0;         ///< the resulting move limit (0 = none)
   std::size_t moves_limited = 0;  ///< points whose move was cut to it
+  /// Points at exactly the position of an earlier point: the method ran on
+  /// the distinct positions and each copy got the result of the first.
+  std::size_t duplicates_merged = 0;
+  double estimated_bytes = 0.0;  ///< the memory guard's estimate of the peak (0 if not run)
   std::vector<StageTiming> timings;
 };
 
@@ -183,7 +194,12 @@ struct RemoveTextureResult {
 /// std::move and they are freed as soon as they have been copied into spatial
 /// order, which keeps two copies out of the peak memory; result.input_positions
 /// and result.input_normals give them back. Deterministic for any thread
-/// count. Throws std::invalid_argument on bad parameters or mismatched sizes.
+/// count. Exact duplicate points are merged before the neighborhoods and get
+/// the result of the first copy (report.duplicates_merged), so that they cost
+/// linear time. Clouds whose extent is beyond 2^±64 (±1e300, ±1e-300) run
+/// scaled by a power of two, which is exact. Throws std::invalid_argument on
+/// bad parameters or mismatched sizes, and ResourceLimitError when the
+/// neighborhoods would exceed params.memory_limit.
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer = {});
 
