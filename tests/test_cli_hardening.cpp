@@ -204,7 +204,7 @@ TEST_F(CliHardening, SignalsRemoveTheTemporaryFileAndExit130Or143) {
 // std::bad_alloc (exit 1) after 40 s; now refused at once with exit 5.
 TEST_F(CliHardening, MemoryGuardRefusesWithExitCode5) {
   const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --memory-limit 1M"), 5);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit 1M"), 5);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 10.0);
   EXPECT_NE(stderr_.find("error: the neighborhoods would need at least"), std::string::npos)
       << stderr_;
@@ -212,7 +212,7 @@ TEST_F(CliHardening, MemoryGuardRefusesWithExitCode5) {
   EXPECT_NE(stderr_.find("1.0 MiB"), std::string::npos) << stderr_;
   EXPECT_EQ(stderr_.find("bad_alloc"), std::string::npos) << stderr_;
   EXPECT_FALSE(fs::exists(path("out.ply")));
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --memory-limit none -q"), 0)
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -q"), 0)
       << stderr_;
   EXPECT_EQ(run(path("in.ply") + " -o " + path("o2.ply") + " --memory-limit 12Q"), 2);
 }
@@ -244,7 +244,7 @@ TEST_F(CliHardening, OutOfMemoryIsAResourceErrorNotBadAlloc) {
   c.positions = s.P;
   c.normals = s.N;
   write_point_cloud(path("40k.ply"), c);
-  EXPECT_EQ(run(path("40k.ply") + " -o " + path("out.ply") + " -r 10 --memory-limit none -j 1",
+  EXPECT_EQ(run(path("40k.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -j 1",
                 "ulimit -v 400000 && "),
             5)
       << stderr_;
@@ -264,7 +264,7 @@ TEST_F(CliHardening, EveryDocumentedExitCode) {
   std::ofstream(path("bad.ply")) << "ply\nformat ascii 1.0\nend_header\n";
   EXPECT_EQ(run(path("bad.ply") + " -o " + path("x.ply")), 3);
   EXPECT_EQ(run(path("in.ply") + " -o " + path("ok.ply")), 4) << "exists";
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("x.ply") + " -r 10 --memory-limit 1M"), 5);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("x.ply") + " -r 10 --force --memory-limit 1M"), 5);
   EXPECT_EQ(run("synth --shape cube -n 100 -o " + path("nodir/c.ply")), 4) << stderr_;
   EXPECT_EQ(run("compare " + path("missing.ply") + " " + path("in.ply")), 3) << stderr_;
 }

@@ -14,9 +14,13 @@
 namespace detexture {
 namespace {
 
+// These clouds are hostile on purpose: radii that hold the whole cloud are
+// what the memory guard and the duplicate merging are tested on, so the
+// large-radius refusal (a parameter check that comes first) is switched off.
 RemoveTextureParams absolute(double radius) {
   RemoveTextureParams p;
   p.radius = {radius, Length::Unit::Absolute};
+  p.allow_large_radius = true;
   return p;
 }
 

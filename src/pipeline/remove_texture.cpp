@@ -442,7 +442,8 @@ bool find_exact_duplicates(const Positions& P, std::vector<std::uint32_t>* first
 
 // Lengths in the cloud's units, times 2^shift (exact).
 RemoveTextureParams scaled_lengths(RemoveTextureParams p, int shift) {
-  for (Length* len : {&p.radius, &p.lambda, &p.sigma_s, &p.sigma_p, &p.solve_radius})
+  for (Length* len :
+       {&p.radius, &p.lambda, &p.sigma_s, &p.sigma_p, &p.solve_radius, &p.min_surface_radius})
     if (len->unit == Length::Unit::Absolute) len->value = std::ldexp(len->value, shift);
   return p;
 }
@@ -579,8 +580,13 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
     result.texture_height *= back;
     RemoveTextureReport& r = result.report;
     for (double* len :
-         {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p, &r.mean_displacement})
+         {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p, &r.mean_displacement,
+          &r.texture_height, &r.max_move, &r.scale.spacing, &r.scale.noise,
+          &r.scale.texture_radius, &r.scale.texture_height})
       *len *= back;
+    for (double& len : r.scale.radii) len *= back;
+    for (double& len : r.scale.residual) len *= back;
+    for (double& len : r.scale.relief) len *= back;
   }
   return result;
 }
