@@ -290,6 +290,16 @@ int run_detexture(int argc, char** argv) {
       "commands: 'detexture synth --help', 'detexture compare --help', 'detexture render --help'.",
       "detexture"};
   app.get_formatter()->column_width(34);
+  app.footer(
+      "Examples:\n"
+      "  detexture scan.ply -o scan.smooth.ply               r chosen from the cloud (1.5 x the "
+      "texture radius)\n"
+      "  detexture scan.ply --scale-report                   what it finds, without filtering\n"
+      "  detexture scan.xyz -o out.ply -r 0.03d --texture-fields --texture-layer texture.ply\n"
+      "  detexture render scan.ply scan.smooth.ply -o before_after.png\n"
+      "Exit codes: 0 ok, 1 internal error, 2 bad parameter, 3 bad input, 4 output cannot be "
+      "written, 5 resource limit, 130/143/129 interrupted (README, Exit codes).\n"
+      "'detexture --version' prints the version and commit; 'detexture help' is this text.");
   app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
       ->required();
   app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...); required");

@@ -67,6 +67,33 @@ int lines(const std::string& text) {
   return n;
 }
 
+// --version names the version and the commit; `detexture help [COMMAND]` is
+// `--help` word for word, and --help shows examples.
+TEST_F(Cli, VersionAndHelpAlias) {
+  auto stdout_text = [&] {
+    std::ifstream in(path("stdout.txt"));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  ASSERT_EQ(run("--version"), 0);
+  const std::string version = stdout_text();
+  EXPECT_EQ(version.rfind("detexture 0.", 0), 0u) << version;
+  EXPECT_NE(version.find("(commit "), std::string::npos) << version;
+  EXPECT_EQ(version.find("commit unknown"), std::string::npos) << "built from a git checkout";
+  ASSERT_EQ(run("--help"), 0);
+  const std::string help = stdout_text();
+  EXPECT_NE(help.find("Examples:"), std::string::npos);
+  EXPECT_NE(help.find("--scale-report"), std::string::npos);
+  ASSERT_EQ(run("help"), 0);
+  EXPECT_EQ(stdout_text(), help);
+  ASSERT_EQ(run("synth --help"), 0);
+  const std::string synth_help = stdout_text();
+  ASSERT_EQ(run("help synth"), 0);
+  EXPECT_EQ(stdout_text(), synth_help);
+  EXPECT_EQ(run("help nonsense"), 2);
+}
+
 TEST_F(Cli, PlainXyzInputGetsNormalsAndTextureRemoved) {
   write_point_cloud(path("in.xyz"), bumpy(false));
   ASSERT_EQ(run(path("in.xyz") + " -o " + path("out.ply") + " -r 0.2"), 0) << stderr_;
