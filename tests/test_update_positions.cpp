@@ -8,21 +8,36 @@
 namespace detexture {
 namespace {
 
+// A plane with a bump of height 0.03, its neighborhoods (r = 0.06), texture
+// labels and the filtered normals all +z: the update's input, worked out.
+struct BumpCase {
+  test::BumpyPlane s;
+  Neighborhoods R;
+  TextureDetection det;
+  Normals up;
+  UpdatePositionsParams params;
+};
+
+BumpCase bump_case(int side) {
+  BumpCase c;
+  c.s = test::bumpy_plane(side, 0.03, 0.03);
+  c.R = radius_neighborhoods(c.s.P, {0.06, 0});
+  DetectTextureParams tp;
+  tp.lambda = 0.002;
+  c.det = detect_texture(c.s.P, c.R, tp);
+  c.up.resize(c.s.P.rows(), 3);
+  c.up.rowwise() = Eigen::RowVector3d(0, 0, 1);
+  c.params.sigma_p = 0.03;
+  c.params.solve_radius = 0.03;
+  return c;
+}
+
 // The filtered normals of a plane with a bump are all +z; the bump's points
 // are texture (detect_texture). The global solve carries them down onto the
 // plane; the paper's local update only averages heights and leaves part of
 // the bump standing.
 TEST(UpdatePositions, GlobalPutsBumpBackOnPlane) {
-  const auto s = test::bumpy_plane(101, 0.03, 0.03);
-  const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
-  DetectTextureParams tp;
-  tp.lambda = 0.002;
-  const TextureDetection det = detect_texture(s.P, R, tp);
-  Normals up(s.P.rows(), 3);
-  up.rowwise() = Eigen::RowVector3d(0, 0, 1);
-  UpdatePositionsParams params;
-  params.sigma_p = 0.03;
-  params.solve_radius = 0.03;
+  auto [s, R, det, up, params] = bump_case(101);
   const UpdatePositionsResult global = update_positions(s.P, up, R, det.is_texture, params);
   params.mode = UpdateMode::Isotropic;
   const UpdatePositionsResult local = update_positions(s.P, up, R, det.is_texture, params);
@@ -36,16 +51,7 @@ TEST(UpdatePositions, GlobalPutsBumpBackOnPlane) {
 // The move limit cuts every move longer than it to its length, along the
 // same direction, and counts those points; shorter moves are untouched.
 TEST(UpdatePositions, MoveLimitCutsLongMovesOnly) {
-  const auto s = test::bumpy_plane(61, 0.03, 0.03);
-  const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
-  DetectTextureParams tp;
-  tp.lambda = 0.002;
-  const TextureDetection det = detect_texture(s.P, R, tp);
-  Normals up(s.P.rows(), 3);
-  up.rowwise() = Eigen::RowVector3d(0, 0, 1);
-  UpdatePositionsParams params;
-  params.sigma_p = 0.03;
-  params.solve_radius = 0.03;
+  auto [s, R, det, up, params] = bump_case(61);
   const UpdatePositionsResult free = update_positions(s.P, up, R, det.is_texture, params);
   params.max_move = 0.01;
   const UpdatePositionsResult cut = update_positions(s.P, up, R, det.is_texture, params);
