@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Installs the Debian packages detexture needs to build and test. Run as root
-# on Debian 12. Skips apt entirely when everything is already installed.
+# Installs the Debian packages detexture needs to build and test, or the
+# packages named as arguments (scripts/install_fuzz_deps.sh passes its own).
+# Run as root on Debian 12. Skips apt entirely when everything is already
+# installed.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libnanoflann-dev libcli11-dev
           libgtest-dev googletest libpng-dev)
+[ $# -gt 0 ] && packages=("$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
