@@ -27,17 +27,24 @@ TEST(DetectTexture, BumpOnPlaneIsTexture) {
   EXPECT_EQ(det.no_plane, 0u);
 }
 
+// synth's sphere of radius 0.5, exact normals included.
+SynthesizedShape sphere(TextureKind texture, std::int64_t points) {
+  SynthParams sp;
+  sp.shape = BaseShape::Sphere;
+  sp.texture = texture;
+  sp.size = 0.1;
+  sp.amplitude = 0.03;
+  sp.points = points;
+  sp.ground_truth_points = 1;
+  return synthesize_shape(sp);
+}
+
 // A sphere of radius 0.5 seen through neighborhoods of r = 0.15: the sag
 // r²/(2·0.5) = 0.0225 is three times λ = 0.0075, so a plane holds at most a
 // band 2λ deep, 4·0.5·λ/r² = 2/3 of the area of R_i, and every point fits
 // in fewer than δ = 0.8 of its neighborhoods. The quadric holds it all.
 TEST(DetectTexture, CurvedSurfaceIsNotTextureWithTheQuadric) {
-  SynthParams sp;
-  sp.shape = BaseShape::Sphere;
-  sp.texture = TextureKind::None;
-  sp.points = 8000;
-  sp.ground_truth_points = 1;
-  const SynthesizedShape s = synthesize_shape(sp);
+  const SynthesizedShape s = sphere(TextureKind::None, 8000);
   const Neighborhoods R = radius_neighborhoods(s.positions, {0.15, 0});
   DetectTextureParams params;
   params.lambda = 0.0075;
@@ -54,34 +61,32 @@ TEST(DetectTexture, CurvedSurfaceIsNotTextureWithTheQuadric) {
 }
 
 // Bumps on that sphere (R = 0.1, A = 0.03) stay texture: the quadric is
-// fitted to the plane's inliers, so the bumps do not bend it.
+// fitted to the plane's inliers, so the bumps do not bend it; with the
+// normals (as remove_texture calls it) as without.
 TEST(DetectTexture, BumpsOnACurvedSurfaceStayTexture) {
-  SynthParams sp;
-  sp.shape = BaseShape::Sphere;
-  sp.texture = TextureKind::Bumps;
-  sp.size = 0.1;
-  sp.amplitude = 0.03;
-  sp.points = 12000;
-  sp.ground_truth_points = 1;
-  const SynthesizedShape s = synthesize_shape(sp);
+  const SynthesizedShape s = sphere(TextureKind::Bumps, 12000);
+  const double amplitude = 0.03;
   const Neighborhoods R = radius_neighborhoods(s.positions, {0.15, 0});
   DetectTextureParams params;
   params.lambda = 0.0075;
   params.min_surface_radius = 0.075;
-  const TextureDetection det = detect_texture(s.positions, R, params);
-  std::size_t high = 0, high_found = 0, flat = 0, flat_found = 0;
-  for (std::size_t i = 0; i < s.texture_heights.size(); ++i) {
-    if (s.texture_heights[i] > 0.5 * sp.amplitude) {
-      ++high;
-      high_found += det.is_texture[i];
-    } else if (s.texture_heights[i] == 0.0) {
-      ++flat;
-      flat_found += det.is_texture[i];
+  for (const bool with_normals : {false, true}) {
+    const TextureDetection det = with_normals ? detect_texture(s.positions, s.normals, R, params)
+                                              : detect_texture(s.positions, R, params);
+    std::size_t high = 0, high_found = 0, flat = 0, flat_found = 0;
+    for (std::size_t i = 0; i < s.texture_heights.size(); ++i) {
+      if (s.texture_heights[i] > 0.5 * amplitude) {
+        ++high;
+        high_found += det.is_texture[i];
+      } else if (s.texture_heights[i] == 0.0) {
+        ++flat;
+        flat_found += det.is_texture[i];
+      }
     }
+    ASSERT_GT(high, 100u);
+    EXPECT_GT(high_found, 0.95 * high);
+    EXPECT_LT(flat_found, 0.2 * flat);
   }
-  ASSERT_GT(high, 100u);
-  EXPECT_GT(high_found, 0.95 * high);
-  EXPECT_LT(flat_found, 0.2 * flat);
 }
 
 TEST(DetectTexture, FlatPlaneHasNoTexture) {
