@@ -6,7 +6,8 @@
 
 int main(int argc, char** argv) {
   using namespace detexture::app;
-  if (argc >= 2 && (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "version") == 0)) {
+  if (argc >= 2 &&
+      (std::strcmp(argv[1], "--version") == 0 || std::strcmp(argv[1], "version") == 0)) {
     std::printf("detexture %s (commit %s)\n", DETEXTURE_VERSION, DETEXTURE_COMMIT);
     return kExitOk;
   }

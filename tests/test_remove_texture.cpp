@@ -68,8 +68,8 @@ TEST(RemoveTexture, ThinPlateKeepsBothSheets) {
       const double x = P(i, 0), y = P(i, 1);
       if (std::min({x, y, 1 - x, 1 - y}) < 0.1) continue;  // half-empty border rows
       dz = std::max(dz, std::abs(r.positions(i, 2) - (upper ? 0.0 : -0.03)));
-      angle = std::max(angle, test::angle_deg(r.normals.row(i),
-                                              Eigen::RowVector3d(0, 0, upper ? 1 : -1)));
+      angle = std::max(angle,
+                       test::angle_deg(r.normals.row(i), Eigen::RowVector3d(0, 0, upper ? 1 : -1)));
     }
     return std::pair<double, double>(dz, angle);
   };

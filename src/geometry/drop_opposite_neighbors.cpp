@@ -16,7 +16,8 @@ std::size_t drop_opposite_neighbors(Neighborhoods& R, const Positions& P, const 
   validate(params);
   const std::size_t n = R.size();
   if (static_cast<std::size_t>(N.rows()) != n || static_cast<std::size_t>(P.rows()) != n)
-    throw std::invalid_argument("drop_opposite_neighbors: positions, normals and neighborhoods differ in size");
+    throw std::invalid_argument(
+        "drop_opposite_neighbors: positions, normals and neighborhoods differ in size");
   if (params.max_angle_deg >= 180.0) return 0;
   const double min_cos = std::cos(params.max_angle_deg * M_PI / 180.0);
   std::uint64_t write = 0;
@@ -33,8 +34,8 @@ std::size_t drop_opposite_neighbors(Neighborhoods& R, const Positions& P, const 
                           (N(j, 0) != 0.0 || N(j, 1) != 0.0 || N(j, 2) != 0.0);
       if (judged && c < min_cos) {
         // Back to back: each lies behind the other's tangent plane.
-        const double along_i = (P(j, 0) - P(i, 0)) * nx + (P(j, 1) - P(i, 1)) * ny +
-                               (P(j, 2) - P(i, 2)) * nz;
+        const double along_i =
+            (P(j, 0) - P(i, 0)) * nx + (P(j, 1) - P(i, 1)) * ny + (P(j, 2) - P(i, 2)) * nz;
         const double along_j = (P(j, 0) - P(i, 0)) * N(j, 0) + (P(j, 1) - P(i, 1)) * N(j, 1) +
                                (P(j, 2) - P(i, 2)) * N(j, 2);
         if (!params.back_to_back_only || (along_i < 0.0 && along_j > 0.0)) continue;

@@ -264,8 +264,8 @@ std::size_t refine_quadric(const Points& S, const Plane& plane, std::size_t plan
         continue;
       const double u = trial.e1x * S.x[t] + trial.e1y * S.y[t] + trial.e1z * S.z[t];
       const double v = trial.e2x * S.x[t] + trial.e2y * S.y[t] + trial.e2z * S.z[t];
-      const double h = plane.test.nx * S.x[t] + plane.test.ny * S.y[t] +
-                       plane.test.nz * S.z[t] - plane.test.d;
+      const double h =
+          plane.test.nx * S.x[t] + plane.test.ny * S.y[t] + plane.test.nz * S.z[t] - plane.test.d;
       scale_sq = std::max(scale_sq, u * u + v * v);
       Eigen::Matrix<double, 6, 1> m;
       m << u * u, u * v, v * v, u, v, 1.0;
@@ -369,7 +369,8 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
     throw std::invalid_argument("detect_texture: positions and normals differ in size");
   const bool with_normals = point_normals.rows() != 0;
   const Normals* normals = &point_normals;
-  const float min_cos = static_cast<float>(std::cos(params.surface_normal_angle_deg * M_PI / 180.0));
+  const float min_cos =
+      static_cast<float>(std::cos(params.surface_normal_angle_deg * M_PI / 180.0));
   const std::size_t n = R.size();
   if (static_cast<std::size_t>(P.rows()) != n)
     throw std::invalid_argument("detect_texture: positions and neighborhoods differ in size");
@@ -388,8 +389,8 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   const bool curved = params.surface == UnderlyingSurface::Quadric;
   const double max_plane_share = params.surface_max_plane_share;
   const double min_gain = params.surface_min_gain;
-  const double max_curvature = params.min_surface_radius > 0.0 ? 1.0 / params.min_surface_radius
-                                                                : kInfinity;
+  const double max_curvature =
+      params.min_surface_radius > 0.0 ? 1.0 / params.min_surface_radius : kInfinity;
   // T_j and N_j sum over the neighborhoods R_i that contain j. When j ∈ R_i
   // exactly if i ∈ R_j (radius neighborhoods without a cap), they are
   // gathered over R_j afterwards from the planes each point keeps; otherwise
@@ -406,8 +407,8 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
 
 #pragma omp parallel reduction(+ : no_plane, total_tries)
   {
-    Points all, rest;                  // R_i; the points no plane has taken yet
-    std::vector<std::uint8_t> inlier;  // per neighbor: fits one of the planes
+    Points all, rest;                       // R_i; the points no plane has taken yet
+    std::vector<std::uint8_t> inlier;       // per neighbor: fits one of the planes
     std::vector<std::uint8_t> bent_inlier;  // the same for the quadric model
     auto* further =
         gather ? &further_by_thread[static_cast<std::size_t>(omp_get_thread_num())] : nullptr;
@@ -500,8 +501,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
       if (curved && explained < max_plane_share * k) {
         SurfaceTest bent;
         if (refine_quadric(all, first.plane, first.count, lambda, min_cos, max_curvature,
-                           params.surface_rounds, &bent) >
-            first.count + min_gain * k) {
+                           params.surface_rounds, &bent) > first.count + min_gain * k) {
           std::array<PlaneTest, 2> bent_found;
           const auto [bent_explained, bent_count] = explain(bent, bent_inlier, bent_found);
           if (bent_explained > explained) {
@@ -570,9 +570,9 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         const float qx = static_cast<float>(P(j, 0) - P(i, 0));
         const float qy = static_cast<float>(P(j, 1) - P(i, 1));
         const float qz = static_cast<float>(P(j, 2) - P(i, 2));
-        bool fits = with_normals ? first_plane[i].fits(qx, qy, qz, nj[0], nj[1], nj[2], lambda,
-                                                       min_cos)
-                                 : first_plane[i].fits(qx, qy, qz, lambda);
+        bool fits = with_normals
+                        ? first_plane[i].fits(qx, qy, qz, nj[0], nj[1], nj[2], lambda, min_cos)
+                        : first_plane[i].fits(qx, qy, qz, lambda);
         for (std::uint32_t e = further_start[i]; e < further_start[i + 1] && !fits; ++e)
           fits = further[e].second.fits(qx, qy, qz, lambda);
         t_j += fits;

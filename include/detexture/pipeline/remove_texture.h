@@ -169,8 +169,9 @@ struct RemoveTextureReport {
   std::size_t update_isolated = 0;
   int update_iterations = 0;
   double mean_displacement = 0.0;
-  double texture_height = 0.0;   ///< 99th percentile of the texture points' heights above their fitted surfaces
-  double max_move = 0.0;         ///< the resulting move limit (0 = none)
+  double texture_height =
+      0.0;  ///< 99th percentile of the texture points' heights above their fitted surfaces
+  double max_move = 0.0;          ///< the resulting move limit (0 = none)
   std::size_t moves_limited = 0;  ///< points whose move was cut to it
   /// Points at exactly the position of an earlier point: the method ran on
   /// the distinct positions and each copy got the result of the first.
