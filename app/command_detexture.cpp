@@ -407,6 +407,11 @@ int run_detexture(int argc, char** argv) {
                "Fig. 4 ablation); also in Eq. 3");
   std::map<std::string, SubneighborhoodMode> omega_modes{{"hard", SubneighborhoodMode::Hard},
                                                          {"soft", SubneighborhoodMode::Soft}};
+  app.add_option("--vote-normal-angle", params.texture.vote_normal_angle_deg,
+                 "Eq. 2's votes: a point counts as fitting a neighborhood's plane only if its "
+                 "normal is also within this angle (degrees) of the plane's; 180 = positions "
+                 "alone (the paper)")
+      ->capture_default_str();
   app.add_option("--subneighborhood", params.texture.subneighborhood,
                  "Ω_i in Eqs. 1 and 3: hard (the paper: surface points only) or soft (ours: "
                  "weighted by the share of neighborhoods in which a point fits the plane; "

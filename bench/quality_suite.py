@@ -236,10 +236,12 @@ DETEXTURE_VARIANTS = [
     ("no-subneighborhood", ["--no-subneighborhood"], "plain Gaussian over R_i (Fig. 4 ablation)"),
     ("plain-guidance", ["--guidance", "plain"], "classic rolling guidance, Zheng et al. 2018 (Fig. 7)"),
     ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
-    ("soft-subneighborhood", ["--subneighborhood", "soft"],
-     "ours, an option: Ω_i weighted by the vote share T/N (for dense texture)"),
-    ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0"],
+    ("hard-subneighborhood", ["--subneighborhood", "hard", "--vote-normal-angle", "180"],
+     "the paper's Ω_i: hard labels from positions-only votes (the default before 2026-12-02)"),
+    ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
+                     "--subneighborhood", "hard", "--vote-normal-angle", "180"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
+    ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
 
 # --------------------------------------------------------------------------
@@ -340,7 +342,7 @@ def peer_args(peer, params, case, points, threads=None):
 # runs first, so they need not be exact.
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
-    "soft-subneighborhood": 0.15, "flat-shared": 0.15,
+    "hard-subneighborhood": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 
@@ -810,8 +812,10 @@ def quality(args):
                 continue
             out = os.path.join(work, f"{case.name}.{method}.ply")
             if method in variants:
+                # None: no options at all, not even the radius rule (auto mode).
+                rule = detexture_rule(case) if variants[method] is not None else []
                 cmd = [detexture_bin(build), ply, "-o", out, "-f", "-q", "--threads", "1",
-                       "--stats", out[:-4] + ".stats.json"] + detexture_rule(case) + variants[method]
+                       "--stats", out[:-4] + ".stats.json"] + rule + (variants[method] or [])
             else:
                 cmd = [peer_program(build, method), ply, out] + \
                     peer_args(method, peer_params[method]["params"], case, case.points, threads=1)
@@ -1015,7 +1019,10 @@ def render(suite, cases, methods, status, runs, peer_params, total, args, pictur
     L.append("|---|---|---|")
     for name, extra, what in DETEXTURE_VARIANTS:
         if name in methods:
-            L.append(f"| {name} | {what} | r = 1.5 R, σs = r{(', `' + ' '.join(extra) + '`') if extra else ''} |")
+            if extra is None:
+                L.append(f"| {name} | {what} | none: `detexture IN -o OUT` |")
+            else:
+                L.append(f"| {name} | {what} | r = 1.5 R, σs = r{(', `' + ' '.join(extra) + '`') if extra else ''} |")
     for peer in suite.peers:
         if peer not in methods:
             continue

@@ -165,6 +165,39 @@ TEST(DetectTexture, TooFewNeighborsCountedNotFatal) {
   EXPECT_EQ(det.texture_points, 0u);
 }
 
+// The vote's normal test: a flat sheet whose normals are tilted by 40° in a
+// disc of radius 0.1 (relief too low to leave the plane, as midway up a wave,
+// but tilted with it). By positions alone every point fits; with
+// vote_normal_angle_deg = 30 the tilted points never vote surface, and the
+// upright ones away from the disc still do. Gathered and scattered counts agree.
+TEST(DetectTexture, VoteNormalAngleRejectsTiltedInliers) {
+  const auto s = test::bumpy_plane(61, 0.0, 0.1);
+  Normals N(s.P.rows(), 3);
+  const double tilt = 40.0 * M_PI / 180.0;
+  auto in_disc = [&](int i) { return std::hypot(s.P(i, 0) - 0.5, s.P(i, 1) - 0.5) < 0.1; };
+  for (int i = 0; i < s.P.rows(); ++i) {
+    if (in_disc(i))
+      N.row(i) << std::sin(tilt), 0.0, std::cos(tilt);
+    else
+      N.row(i) << 0.0, 0.0, 1.0;
+  }
+  Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  const TextureDetection positions_only = detect_texture(s.P, N, R, params);
+  EXPECT_EQ(positions_only.texture_points, 0u);
+  params.vote_normal_angle_deg = 30.0;
+  const TextureDetection voted = detect_texture(s.P, N, R, params);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    if (in_disc(i)) EXPECT_TRUE(voted.is_texture[i]) << "point " << i;
+    if (!in_disc(i)) EXPECT_FALSE(voted.is_texture[i]) << "point " << i;
+  }
+  R.symmetric = false;
+  EXPECT_EQ(detect_texture(s.P, N, R, params).inliers, voted.inliers);
+  params.vote_normal_angle_deg = 50.0;  // wider than the tilt: all fit again
+  EXPECT_EQ(detect_texture(s.P, N, R, params).texture_points, 0u);
+}
+
 TEST(DetectTexture, RejectsBadParameters) {
   const auto s = test::bumpy_plane(5, 0.0, 0.1);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.5, 0});
@@ -181,6 +214,11 @@ TEST(DetectTexture, RejectsBadParameters) {
   EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
   params.soft_floor = -0.1;
   EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+  params.soft_floor = 0.3;
+  params.vote_normal_angle_deg = 0.0;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
+  params.vote_normal_angle_deg = 181.0;
+  EXPECT_THROW(detect_texture(s.P, R, params), std::invalid_argument);
 }
 
 // Ω weights: hard is 1 - label; soft ramps from 0 at soft_floor to 1 at δ in
@@ -192,6 +230,7 @@ TEST(DetectTexture, OmegaWeightsFollowTheVotes) {
   const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
   DetectTextureParams params;
   params.lambda = 0.002;
+  params.subneighborhood = SubneighborhoodMode::Hard;
   const TextureDetection hard = detect_texture(s.P, R, params);
   EXPECT_EQ(hard.omega, hard_omega(hard.is_texture));
   params.subneighborhood = SubneighborhoodMode::Soft;

@@ -54,6 +54,7 @@ TEST(FilterNormalsGaussian, SoftSubNeighborhoodCopesWithDenseTexture) {
   const Neighborhoods R = radius_neighborhoods(s.positions, {r, 0});
   DetectTextureParams tp;
   tp.lambda = 0.05 * r;
+  tp.subneighborhood = SubneighborhoodMode::Hard;
   FilterNormalsGaussianParams gp;
   gp.sigma_s = r;
   auto mean_error = [&](const Normals& M) {

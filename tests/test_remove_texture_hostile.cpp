@@ -99,11 +99,19 @@ TEST(RemoveTextureHostile, ExtremeScalesGiveTheScaledResult) {
     EXPECT_EQ(r.report.radius, unit.report.radius * f);
     EXPECT_EQ(r.input_positions, s.P * f);
   }
-  // Not a power of two: the same answer to rounding.
+  // Not a power of two: the same answer to rounding. Rounding can flip a
+  // vote of Eq. 2 whose distance sits at λ; with the soft Ω (the default)
+  // that shifts the neighbor's weight by one vote share, and the points near
+  // it by ~1e-5 of the unit cloud (the bumps are 0.03 high), where the hard
+  // labels rarely change.
   const RemoveTextureResult big = remove_texture(s.P * 1e300, s.N, p);
-  EXPECT_LT(((big.positions / 1e300) - unit.positions).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT(((big.positions / 1e300) - unit.positions).cwiseAbs().maxCoeff(), 5e-5);
   const RemoveTextureResult tiny = remove_texture(s.P * 1e-300, s.N, p);
-  EXPECT_LT(((tiny.positions / 1e-300) - unit.positions).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT(((tiny.positions / 1e-300) - unit.positions).cwiseAbs().maxCoeff(), 5e-5);
+  p.texture.subneighborhood = SubneighborhoodMode::Hard;
+  const RemoveTextureResult unit_hard = remove_texture(s.P, s.N, p);
+  const RemoveTextureResult big_hard = remove_texture(s.P * 1e300, s.N, p);
+  EXPECT_LT(((big_hard.positions / 1e300) - unit_hard.positions).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 // All-zero input normals (the reader zeroes NaN ones) were kept zero; now

@@ -56,6 +56,10 @@ struct PlaneTest {
   bool fits(float px, float py, float pz, float lambda) const {
     return std::abs(nx * px + ny * py + nz * pz - d) < lambda;
   }
+  // Normal (qnx, qny, qnz) within acos(min_cos) of the plane's, either sign.
+  bool agrees(float qnx, float qny, float qnz, float min_cos) const {
+    return min_cos <= -1.0f || std::abs(nx * qnx + ny * qny + nz * qnz) >= min_cos;
+  }
 };
 
 // The first model of a neighborhood: a plane n . q = d, optionally bent by a
@@ -80,6 +84,12 @@ struct SurfaceTest {
             float min_cos) const {
     if (!fits(px, py, pz, lambda)) return false;
     if (!curved || min_cos <= -1.0f) return true;
+    return agrees(px, py, pz, qnx, qny, qnz, min_cos);
+  }
+  // The normal test alone, for the plane or the quadric at (px, py, pz).
+  bool agrees(float px, float py, float pz, float qnx, float qny, float qnz, float min_cos) const {
+    if (min_cos <= -1.0f) return true;
+    if (!curved) return plane.agrees(qnx, qny, qnz, min_cos);
     const float u = e1x * px + e1y * py + e1z * pz, v = e2x * px + e2y * py + e2z * pz;
     const float gu = 2 * a * u + b * v + e, gv = b * u + 2 * c * v + f;
     const float mx = plane.nx - gu * e1x - gv * e2x, my = plane.ny - gu * e1y - gv * e2y,
@@ -348,6 +358,9 @@ void validate(const DetectTextureParams& p) {
   if (!(p.surface_max_plane_share > 0.0 && p.surface_max_plane_share <= 1.0))
     throw std::invalid_argument("the quadric's plane share must lie in (0, 1], got " +
                                 number_text(p.surface_max_plane_share));
+  if (!(p.vote_normal_angle_deg > 0.0 && p.vote_normal_angle_deg <= 180.0))
+    throw std::invalid_argument("the vote normal angle must lie in (0, 180] degrees, got " +
+                                number_text(p.vote_normal_angle_deg));
   if (p.surface_rounds < 1)
     throw std::invalid_argument("the quadric surface needs at least 1 fitting round, got " +
                                 number_text(p.surface_rounds));
@@ -371,6 +384,10 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   const Normals* normals = &point_normals;
   const float min_cos =
       static_cast<float>(std::cos(params.surface_normal_angle_deg * M_PI / 180.0));
+  const float vote_cos =
+      with_normals && params.vote_normal_angle_deg < 180.0
+          ? static_cast<float>(std::cos(params.vote_normal_angle_deg * M_PI / 180.0))
+          : -2.0f;
   const std::size_t n = R.size();
   if (static_cast<std::size_t>(P.rows()) != n)
     throw std::invalid_argument("detect_texture: positions and neighborhoods differ in size");
@@ -530,6 +547,21 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         kept_count[i] = static_cast<std::uint8_t>(planes_kept);
         continue;
       }
+      if (vote_cos > -1.0f) {
+        // Eq. 2's votes with the normal test (vote_normal_angle_deg): the
+        // point's normal must agree with the model it fits.
+        for (std::uint32_t t = 0; t < k; ++t) {
+          if (!inlier[t]) continue;
+          const float x = all.x[t], y = all.y[t], z = all.z[t];
+          bool agrees = all.fits(surface, t, lambda, min_cos) &&
+                        surface.agrees(x, y, z, all.nx[t], all.ny[t], all.nz[t], vote_cos);
+          for (int e = 0; e < further_count && !agrees; ++e) {
+            const PlaneTest& f = further_found[static_cast<std::size_t>(e)];
+            agrees = f.fits(x, y, z, lambda) && f.agrees(all.nx[t], all.ny[t], all.nz[t], vote_cos);
+          }
+          inlier[t] = agrees;
+        }
+      }
       for (std::uint32_t t = 0; t < k; ++t) {
         const std::uint32_t j = nb[t];
         if (inlier[t]) {
@@ -570,11 +602,13 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         const float qx = static_cast<float>(P(j, 0) - P(i, 0));
         const float qy = static_cast<float>(P(j, 1) - P(i, 1));
         const float qz = static_cast<float>(P(j, 2) - P(i, 2));
-        bool fits = with_normals
-                        ? first_plane[i].fits(qx, qy, qz, nj[0], nj[1], nj[2], lambda, min_cos)
-                        : first_plane[i].fits(qx, qy, qz, lambda);
+        const SurfaceTest& first = first_plane[i];
+        bool fits = with_normals ? first.fits(qx, qy, qz, nj[0], nj[1], nj[2], lambda, min_cos) &&
+                                       first.agrees(qx, qy, qz, nj[0], nj[1], nj[2], vote_cos)
+                                 : first.fits(qx, qy, qz, lambda);
         for (std::uint32_t e = further_start[i]; e < further_start[i + 1] && !fits; ++e)
-          fits = further[e].second.fits(qx, qy, qz, lambda);
+          fits = further[e].second.fits(qx, qy, qz, lambda) &&
+                 further[e].second.agrees(nj[0], nj[1], nj[2], vote_cos);
         t_j += fits;
       }
       T[j] = t_j;
