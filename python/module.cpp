@@ -56,6 +56,12 @@ py::array to_array(Eigen::VectorXd values) {
   return py::array_t<double>({static_cast<py::ssize_t>(owner->size())}, owner->data(), free);
 }
 
+void check_rows(const Matrix3& P, const Matrix3& other, const char* what) {
+  if (other.rows() != P.rows())
+    throw py::value_error(std::string(what) + " must have as many rows as points (" +
+                          std::to_string(P.rows()) + "), got " + std::to_string(other.rows()));
+}
+
 void throw_os_error(const char* message) {
   PyErr_SetString(PyExc_OSError, message);
   throw py::error_already_set();
@@ -87,4 +93,5 @@ PYBIND11_MODULE(detexture, m) {
   dp::bind_remove_texture(m);
   dp::bind_synthesize_shape(m);
   dp::bind_neighborhoods(m);
+  dp::bind_stages(m);
 }

@@ -37,6 +37,23 @@ py::array to_array(std::vector<T> values) {
 }
 py::array to_array(Eigen::VectorXd values);
 
+/// A 1-D array of n values (any numeric dtype, cast to T) as a vector;
+/// ValueError naming `what` otherwise.
+template <class T>
+std::vector<T> to_vector(py::handle array, const char* what, std::size_t n) {
+  auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(array);
+  if (!a || a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != n) {
+    PyErr_Clear();
+    throw py::value_error(std::string(what) + " must be a 1-D array of " + std::to_string(n) +
+                          " values, one per point");
+  }
+  return std::vector<T>(a.data(), a.data() + n);
+}
+
+/// Positions and optional normals of the same cloud, with the sizes checked
+/// against each other and against neighborhoods built on it.
+void check_rows(const Matrix3& P, const Matrix3& other, const char* what);
+
 /// Run f, turning the library's file errors (std::runtime_error other than
 /// invalid_argument and ResourceLimitError) into OSError with the same message.
 [[noreturn]] void throw_os_error(const char* message);
@@ -60,5 +77,6 @@ void bind_point_cloud(py::module_& m);
 void bind_remove_texture(py::module_& m);
 void bind_synthesize_shape(py::module_& m);
 void bind_neighborhoods(py::module_& m);
+void bind_stages(py::module_& m);
 
 }  // namespace detexture::python

@@ -18,7 +18,7 @@ import detexture  # noqa: E402
 def main():
     target = sys.argv[1]
     shape = detexture.synthesize(shape="plane", texture="bumps", size=0.06, amplitude=0.02,
-                                 points=20000, ground_truth_points=20000, seed=2)
+                                 points=8000, ground_truth_points=8000, seed=2)
     result = detexture.remove_texture(shape.positions, shape.normals, radius=0.09)
     before = detexture.compare(shape.positions, shape.normals, shape.ground_truth_positions,
                                shape.ground_truth_normals)
@@ -28,7 +28,7 @@ def main():
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
     for ax, P, title, c in ((axes[0], shape.positions, "before", before),
                             (axes[1], result.positions, "after", after)):
-        im = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=1.5, cmap="viridis", vmin=-0.002,
+        im = ax.scatter(P[:, 0], P[:, 1], c=P[:, 2], s=3, cmap="viridis", vmin=-0.002,
                         vmax=0.02)
         ax.set_title(f"{title}: residual texture {c['signed_std']:.2g}")
         ax.set_aspect("equal")

@@ -19,183 +19,15 @@
 
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/pipeline/texture_fields.h"
-#include "header_docs.h"
 #include "module.h"
+#include "params.h"
 
 namespace detexture::python {
 namespace {
 
-// ---- parameter conversion -------------------------------------------------
-
-std::string normalized(const std::string& name) {
-  std::string out;
-  for (char c : name)
-    if (c != '-' && c != '_') out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-template <class T>
-std::string type_name() {
-  if constexpr (std::is_same_v<T, Length>)
-    return "length";
-  else if constexpr (std::is_same_v<T, bool>)
-    return "bool";
-  else if constexpr (std::is_floating_point_v<T>)
-    return "float";
-  else if constexpr (std::is_integral_v<T>)
-    return "int";
-  else
-    return py::type::of<T>().attr("__name__").template cast<std::string>();
-}
-
-template <class T>
-py::object to_py(const T& value) {
-  if constexpr (std::is_same_v<T, Length>)
-    return py::str(to_string(value));
-  else
-    return py::cast(value);
-}
-
-template <class T>
-void from_py(T& out, py::handle h, const std::string& keyword) {
-  const std::string got = py::repr(h).cast<std::string>();
-  if constexpr (std::is_same_v<T, Length>) {
-    // "0.05", "0.02d", "0.5r", "1.5t", "auto", or a number in the cloud's units.
-    if (py::isinstance<py::str>(h)) {
-      out = parse_length(h.cast<std::string>());
-    } else if (py::isinstance<py::float_>(h) || py::isinstance<py::int_>(h)) {
-      if (py::isinstance<py::bool_>(h))
-        throw py::type_error(keyword + " must be a length, got " + got);
-      out = Length{h.cast<double>(), Length::Unit::Absolute};
-    } else {
-      throw py::type_error(keyword +
-                           " must be a length (a number, or a string such as '0.02d', "
-                           "'0.5r', '1.5t'), got " +
-                           got);
-    }
-  } else if constexpr (std::is_same_v<T, bool>) {
-    if (!py::isinstance<py::bool_>(h))
-      throw py::type_error(keyword + " must be True or False, got " + got);
-    out = h.cast<bool>();
-  } else if constexpr (std::is_enum_v<T>) {
-    if (py::isinstance<py::str>(h)) {
-      const std::string want = normalized(h.cast<std::string>());
-      const py::dict members = py::type::of<T>().attr("__members__");
-      std::string names;
-      for (const auto& item : members) {
-        const std::string n = py::cast<std::string>(item.first);
-        if (normalized(n) == want) {
-          out = py::cast<T>(item.second);
-          return;
-        }
-        names += (names.empty() ? "" : ", ") + n;
-      }
-      throw py::value_error(keyword + " must be one of " + names + ", got " + got);
-    }
-    try {
-      out = h.cast<T>();
-    } catch (const py::cast_error&) {
-      throw py::type_error(keyword + " must be a " + type_name<T>() + " or its name, got " + got);
-    }
-  } else {
-    if (py::isinstance<py::bool_>(h) || (std::is_integral_v<T> && !py::isinstance<py::int_>(h)) ||
-        !(py::isinstance<py::int_>(h) || py::isinstance<py::float_>(h)))
-      throw py::type_error(keyword + " must be " + (std::is_integral_v<T> ? "an int" : "a number") +
-                           ", got " + got);
-    try {
-      out = h.cast<T>();
-    } catch (const py::cast_error&) {
-      throw py::value_error(keyword + " is out of range: " + got);
-    }
-  }
-}
-
-struct ParamField {
-  std::string keyword, doc_key, type;
-  std::function<py::object(const RemoveTextureParams&)> get;
-  std::function<void(RemoveTextureParams&, py::handle)> set;
-};
-
-const std::vector<ParamField>& param_fields() {
-  static const std::vector<ParamField> fields = [] {
-    std::vector<ParamField> out;
-    for_each_remove_texture_param<RemoveTextureParams>(
-        [&](const char* keyword, const char* key, auto access) {
-          using T = std::decay_t<decltype(access(std::declval<RemoveTextureParams&>()))>;
-          ParamField f{keyword, key, type_name<T>(), {}, {}};
-          f.get = [access](const RemoveTextureParams& p) {
-            return to_py(access(const_cast<RemoveTextureParams&>(p)));
-          };
-          f.set = [access, k = std::string(keyword)](RemoveTextureParams& p, py::handle h) {
-            from_py(access(p), h, k);
-          };
-          out.push_back(std::move(f));
-        });
-    return out;
-  }();
-  return fields;
-}
-
-RemoveTextureParams params_from_kwargs(const py::kwargs& kwargs, py::object* progress) {
-  static const std::map<std::string, const ParamField*> by_keyword = [] {
-    std::map<std::string, const ParamField*> m;
-    for (const ParamField& f : param_fields()) m[f.keyword] = &f;
-    return m;
-  }();
-  RemoveTextureParams params;
-  for (const auto& [key, value] : kwargs) {
-    const std::string k = key.cast<std::string>();
-    if (k == "progress") {
-      if (!value.is_none() && !PyCallable_Check(value.ptr()))
-        throw py::type_error("progress must be a callable (stage, fraction) or None");
-      *progress = py::reinterpret_borrow<py::object>(value);
-      continue;
-    }
-    const auto it = by_keyword.find(k);
-    if (it == by_keyword.end())
-      throw py::type_error("remove_texture() got an unexpected keyword argument '" + k +
-                           "' (detexture.default_parameters() lists them all)");
-    it->second->set(params, value);
-  }
-  validate(params);  // std::invalid_argument -> ValueError, with the library's sentence
-  return params;
-}
-
-std::string wrap(const std::string& text, const std::string& indent, std::size_t width = 76) {
-  std::istringstream words(text);
-  std::string out, line, word;
-  while (words >> word) {
-    if (!line.empty() && indent.size() + line.size() + 1 + word.size() > width) {
-      out += indent + line + "\n";
-      line.clear();
-    }
-    line += (line.empty() ? "" : " ") + word;
-  }
-  if (!line.empty()) out += indent + line + "\n";
-  return out;
-}
-
 std::string remove_texture_doc(const py::module_& m) {
-  const RemoveTextureParams defaults;
-  std::string signature = "remove_texture(points, normals=None, *";
-  std::string params;
-  for (const ParamField& f : param_fields()) {
-    const bool is_enum =
-        f.type != "length" && f.type != "bool" && f.type != "float" && f.type != "int";
-    const py::object v = f.get(defaults);
-    const std::string value = (is_enum ? py::str(v) : py::repr(v)).cast<std::string>();
-    signature += ", " + f.keyword + "=" + value;
-    std::string text = doc(f.doc_key);
-    if (is_enum) {
-      std::string names;
-      for (const auto& [name, v] : py::dict(m.attr(f.type.c_str()).attr("__members__")))
-        names += (names.empty() ? "" : ", ") + name.cast<std::string>();
-      text += (text.empty() ? "" : " ") + std::string("One of ") + names + " (detexture." + f.type +
-              " or its name as a string).";
-    }
-    params += f.keyword + " : " + f.type + ", default " + value + "\n" +
-              wrap(text.empty() ? "(undocumented)" : text, "    ");
-  }
+  const auto [keywords, params] = params_doc<RemoveTextureParams>(m);
+  std::string signature = "remove_texture(points, normals=None, *" + keywords;
   signature += ", progress=None) -> RemoveTextureResult\n\n";
   return signature +
          wrap(
@@ -204,7 +36,8 @@ std::string remove_texture_doc(const py::module_& m) {
              "layout, or a PointCloud (its normals are used). normals: (N, 3) or None to "
              "estimate them; normalized as the readers do. The work runs without the GIL; "
              "progress(stage, fraction) is called from time to time (with the GIL), and an "
-             "exception raised in it cancels the run and propagates. Warnings of the "
+             "exception raised in it cancels the run when the stage in progress ends and "
+             "propagates. Warnings of the "
              "library arrive as UserWarning. Raises ValueError for bad parameters or arrays "
              "(the command line's messages), detexture.ResourceLimitError (a MemoryError) "
              "when the neighborhoods would exceed memory_limit.",
@@ -269,7 +102,14 @@ PipelineObserver make_observer(ObserverState& st) {
 RemoveTextureResult run(py::handle points, const py::object& normals_arg,
                         const py::kwargs& kwargs) {
   py::object progress = py::none();
-  const RemoveTextureParams params = params_from_kwargs(kwargs, &progress);
+  if (kwargs.contains("progress")) {
+    progress = kwargs["progress"];
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+      throw py::type_error("progress must be a callable (stage, fraction) or None");
+  }
+  const auto params =
+      params_from_kwargs<RemoveTextureParams>(kwargs, "remove_texture", {"progress"});
+  validate(params);  // std::invalid_argument -> ValueError, with the library's sentence
   Positions P;
   Normals N;
   if (py::isinstance<PointCloud>(points)) {
@@ -503,13 +343,7 @@ void bind_remove_texture(py::module_& m) {
       py::arg("points"), py::arg("normals") = py::none(), remove_doc.c_str());
 
   m.def(
-      "default_parameters",
-      [] {
-        const RemoveTextureParams defaults;
-        py::dict d;
-        for (const ParamField& f : param_fields()) d[py::str(f.keyword)] = f.get(defaults);
-        return d;
-      },
+      "default_parameters", [] { return default_params<RemoveTextureParams>(); },
       "default_parameters() -> dict\n\nThe keywords of remove_texture and their defaults, read "
       "from a default-constructed C++ RemoveTextureParams.");
 
