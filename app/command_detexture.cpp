@@ -25,6 +25,8 @@
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "detexture/pipeline/remove_texture.h"
+#include "detexture/pipeline/texture_fields.h"
+#include "detexture/threads.h"
 
 namespace detexture::app {
 namespace {
@@ -105,19 +107,6 @@ std::string name_of(const std::map<std::string, E>& names, E value) {
   for (const auto& [name, v] : names)
     if (v == value) return name;
   return "?";
-}
-
-template <class T>
-void set_property(PointCloud& cloud, const std::string& name, ScalarType type, const T& values) {
-  PointProperty* prop = nullptr;
-  for (auto& e : cloud.extras)
-    if (e.name == name) prop = &e;
-  if (!prop) {
-    cloud.extras.push_back({name, type, {}});
-    prop = &cloud.extras.back();
-  }
-  prop->type = type;
-  prop->values.assign(values.begin(), values.end());
 }
 
 std::string json_text(const std::string& s) {
@@ -500,9 +489,10 @@ int run_detexture(int argc, char** argv) {
     params.rolling.guidance.blend = !no_blend;
     if (paper_rolling_neighborhood) params.rolling.use_subneighborhood = false;
     params.allow_large_radius = force;
+    params.threads = threads;
     validate(params);
-    if (threads > 0) omp_set_num_threads(threads);
-    check_threads(omp_get_max_threads());
+    check_threads(thread_count(threads));
+    const ScopedThreads thread_scope(threads);  // for the stages run outside remove_texture
     const FileFormat in_format = parse_file_format(format_in);
     const FileFormat out_format = parse_file_format(format_out);
     WriteOptions write_options;
@@ -565,27 +555,11 @@ int run_detexture(int argc, char** argv) {
                    "positions and each copy got the result of the first");
 
     const auto t1 = std::chrono::steady_clock::now();
-    PointCloud out = cloud;
-    out.positions = result.positions;
-    out.normals = result.normals;
-    if (texture_fields) {
-      set_property(out, "texture", ScalarType::UInt8, result.is_texture);
-      set_property(
-          out, "texture_height", ScalarType::Float32,
-          std::vector<double>(result.texture_height.data(),
-                              result.texture_height.data() + result.texture_height.size()));
-    }
+    const PointCloud out = detextured_cloud(cloud, result, texture_fields);
     try {
       write_point_cloud(output, out, write_options);
-      if (!texture_layer.empty()) {
-        PointCloud layer = cloud;
-        layer.normals = result.input_normals;
-        set_property(
-            layer, "texture_height", ScalarType::Float32,
-            std::vector<double>(result.texture_height.data(),
-                                result.texture_height.data() + result.texture_height.size()));
-        write_point_cloud(texture_layer, layer, write_options);
-      }
+      if (!texture_layer.empty())
+        write_point_cloud(texture_layer, detexture::texture_layer(cloud, result), write_options);
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {

@@ -116,6 +116,8 @@ std::string read_file_bytes(const std::string& path, FileFormat format) {
   return bytes;
 }
 
+}  // namespace
+
 // Scale by the largest component first, so that tiny but non-zero normals
 // do not underflow to zero length. Normals already of unit length (to
 // within rounding) are left bit-identical, so a write-read round trip does
@@ -136,8 +138,6 @@ std::size_t normalize_normals(Normals& N) {
   }
   return zero_length;
 }
-
-}  // namespace
 
 PointCloud read_point_cloud(const std::string& path, FileFormat format, ReadReport* report) {
   if (format == FileFormat::Auto) format = format_from_extension(path);

@@ -90,6 +90,9 @@ void validate(const RemoveTextureParams& p) {
                                 number_text(p.move_limit));
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
+  if (p.threads < 0)
+    throw std::invalid_argument("the thread count must be 0 (all cores) or positive, got " +
+                                std::to_string(p.threads));
   // The stage validators check everything else; lengths are filled in with a
   // placeholder so they do not trip on the unresolved values.
   DetectTextureParams t = p.texture;
@@ -457,6 +460,7 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
   validate(params);
+  const ScopedThreads threads(params.threads);
   const std::size_t n = static_cast<std::size_t>(P.rows());
   if (n == 0) throw std::invalid_argument("the point cloud is empty");
   if (normals.rows() != 0 && normals.rows() != P.rows())

@@ -81,4 +81,11 @@ struct ReadReport {
 PointCloud read_point_cloud(const std::string& path, FileFormat format = FileFormat::Auto,
                             ReadReport* report = nullptr);
 
+/// Normalize normals N (#N by 3) in place as the readers do: rows of unit
+/// length (to within 1e-12) are left bit-identical, zero-length rows and rows
+/// with a NaN or Inf component become (0,0,0), to be re-estimated by the
+/// pipeline. Returns how many became zero. For callers that pass normals from
+/// memory (the Python module), so that they get what a file would give.
+std::size_t normalize_normals(Normals& N);
+
 }  // namespace detexture

@@ -21,6 +21,7 @@
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/update_positions.h"
+#include "detexture/threads.h"
 #include "detexture/types.h"
 
 namespace detexture {
@@ -114,6 +115,11 @@ struct RemoveTextureParams {
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
   UpdatePositionsParams update;  ///< mode, isotropy angle, anchors (σp, solve radius from above)
+
+  /// Worker threads, >= 0; 0 = all cores (OpenMP's default, or OMP_NUM_THREADS).
+  /// Applied for the duration of the call only (ScopedThreads in threads.h);
+  /// the result is bitwise the same for any value.
+  int threads = 0;
 };
 
 /// Check every parameter; throws std::invalid_argument naming the bad one.

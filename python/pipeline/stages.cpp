@@ -1,0 +1,183 @@
+// The stages of the method run alone, for callers who reuse neighborhoods or
+// swap a stage: detect_texture (Eq. 2), filter_normals_gaussian (Eq. 1),
+// filter_normals_rolling (Eqs. 3-8), update_positions (Eqs. 9-10). Keywords
+// come from each stage's Params struct (params.h); results are dicts of
+// arrays and counts, named as the C++ result members.
+#include <pybind11/stl.h>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/pipeline/detect_texture.h"
+#include "detexture/pipeline/filter_normals_gaussian.h"
+#include "detexture/pipeline/filter_normals_rolling.h"
+#include "detexture/pipeline/update_positions.h"
+#include "module.h"
+#include "params.h"
+
+namespace detexture::python {
+namespace {
+
+void check_neighborhoods(const Matrix3& P, const Neighborhoods& R) {
+  if (R.size() != static_cast<std::size_t>(P.rows()))
+    throw py::value_error("the neighborhoods are of " + std::to_string(R.size()) +
+                          " points but there are " + std::to_string(P.rows()) +
+                          "; build them on these points (radius_neighborhoods)");
+}
+
+std::vector<float> omega_of(const py::object& omega, std::size_t n) {
+  return omega.is_none() ? std::vector<float>() : to_vector<float>(omega, "omega", n);
+}
+
+template <class Params>
+std::string stage_doc(const py::module_& m, const std::string& name, const std::string& args,
+                      const std::string& returns, const std::string& params_struct) {
+  const auto [keywords, list] = params_doc<Params>(m);
+  return name + "(" + args + ", *" + keywords + ") -> dict\n\n" +
+         wrap("Returns a dict: " + returns + ". Keywords are the members of the C++ " +
+                  params_struct +
+                  " (defaults and docs below, from the header); lengths are in "
+                  "the cloud's units.",
+              "") +
+         "\nC++: " + wrap(doc(name), "") + "\nParameters\n----------\n" + list;
+}
+
+}  // namespace
+
+void bind_stages(py::module_& m) {
+  static const std::string detect_doc = stage_doc<DetectTextureParams>(
+      m, "detect_texture", "points, neighborhoods, normals=None",
+      "is_texture (bool), inliers, members, omega, height, texture_points, no_plane, "
+      "mean_iterations",
+      "DetectTextureParams");
+  m.def(
+      "detect_texture",
+      [](const py::object& points, const Neighborhoods& R, const py::object& normals,
+         const py::kwargs& kwargs) {
+        const auto params = params_from_kwargs<DetectTextureParams>(kwargs, "detect_texture");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        check_neighborhoods(P, R);
+        Normals N;
+        if (!normals.is_none()) {
+          N = to_matrix3(normals, "normals", true);
+          check_rows(P, N, "normals");
+        }
+        TextureDetection t;
+        {
+          py::gil_scoped_release release;
+          t = detect_texture(P, N, R, params);
+        }
+        py::dict d;
+        d["is_texture"] = py::array(to_array(std::move(t.is_texture))).attr("astype")("bool");
+        d["inliers"] = to_array(std::move(t.inliers));
+        d["members"] = to_array(std::move(t.members));
+        d["omega"] = to_array(std::move(t.omega));
+        d["height"] = to_array(std::move(t.height));
+        d["texture_points"] = t.texture_points;
+        d["no_plane"] = t.no_plane;
+        d["mean_iterations"] = t.mean_iterations;
+        return d;
+      },
+      py::arg("points"), py::arg("neighborhoods"), py::arg("normals") = py::none(),
+      detect_doc.c_str());
+
+  static const std::string gaussian_doc = stage_doc<FilterNormalsGaussianParams>(
+      m, "filter_normals_gaussian", "points, normals, neighborhoods, omega=None",
+      "normals, empty_subneighborhoods, zero_sum", "FilterNormalsGaussianParams");
+  m.def(
+      "filter_normals_gaussian",
+      [](const py::object& points, const py::object& normals, const Neighborhoods& R,
+         const py::object& omega, const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<FilterNormalsGaussianParams>(kwargs, "filter_normals_gaussian");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        const Normals N = to_matrix3(normals, "normals");
+        check_rows(P, N, "normals");
+        check_neighborhoods(P, R);
+        const std::vector<float> w = omega_of(omega, R.size());
+        if (w.empty() && params.use_subneighborhood)
+          throw py::value_error("omega is needed when use_subneighborhood is True");
+        GaussianFilterResult g;
+        {
+          py::gil_scoped_release release;
+          g = filter_normals_gaussian(P, N, R, w, params);
+        }
+        py::dict d;
+        d["normals"] = to_array(std::move(g.normals));
+        d["empty_subneighborhoods"] = g.empty_subneighborhoods;
+        d["zero_sum"] = g.zero_sum;
+        return d;
+      },
+      py::arg("points"), py::arg("normals"), py::arg("neighborhoods"),
+      py::arg("omega") = py::none(), gaussian_doc.c_str());
+
+  static const std::string rolling_doc = stage_doc<FilterNormalsRollingParams>(
+      m, "filter_normals_rolling",
+      "points, input_normals, initial_normals, neighborhoods, omega=None",
+      "normals, iterations, last_change_deg", "FilterNormalsRollingParams");
+  m.def(
+      "filter_normals_rolling",
+      [](const py::object& points, const py::object& input, const py::object& initial,
+         const Neighborhoods& R, const py::object& omega, const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<FilterNormalsRollingParams>(kwargs, "filter_normals_rolling");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        const Normals in = to_matrix3(input, "input_normals");
+        Normals start = to_matrix3(initial, "initial_normals");
+        check_rows(P, in, "input_normals");
+        check_rows(P, start, "initial_normals");
+        check_neighborhoods(P, R);
+        const std::vector<float> w = omega_of(omega, R.size());
+        if (w.empty() && params.use_subneighborhood)
+          throw py::value_error("omega is needed when use_subneighborhood is True");
+        RollingFilterResult r;
+        {
+          py::gil_scoped_release release;
+          r = filter_normals_rolling(P, in, std::move(start), R, w, params);
+        }
+        py::dict d;
+        d["normals"] = to_array(std::move(r.normals));
+        d["iterations"] = r.iterations;
+        d["last_change_deg"] = r.last_change_deg;
+        return d;
+      },
+      py::arg("points"), py::arg("input_normals"), py::arg("initial_normals"),
+      py::arg("neighborhoods"), py::arg("omega") = py::none(), rolling_doc.c_str());
+
+  static const std::string update_doc = stage_doc<UpdatePositionsParams>(
+      m, "update_positions", "points, normals, neighborhoods, is_texture=None",
+      "positions, iterations, isolated, mean_displacement, limited", "UpdatePositionsParams");
+  m.def(
+      "update_positions",
+      [](const py::object& points, const py::object& normals, const Neighborhoods& R,
+         const py::object& is_texture, const py::kwargs& kwargs) {
+        const auto params = params_from_kwargs<UpdatePositionsParams>(kwargs, "update_positions");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        const Normals N = to_matrix3(normals, "normals");
+        check_rows(P, N, "normals");
+        check_neighborhoods(P, R);
+        const std::vector<std::uint8_t> t =
+            is_texture.is_none() ? std::vector<std::uint8_t>()
+                                 : to_vector<std::uint8_t>(is_texture, "is_texture", R.size());
+        if (t.empty() && params.mode == UpdateMode::Global)
+          throw py::value_error("is_texture is needed by the global update (update mode Global)");
+        UpdatePositionsResult u;
+        {
+          py::gil_scoped_release release;
+          u = update_positions(P, N, R, t, params);
+        }
+        py::dict d;
+        d["positions"] = to_array(std::move(u.positions));
+        d["iterations"] = u.iterations;
+        d["isolated"] = u.isolated;
+        d["mean_displacement"] = u.mean_displacement;
+        d["limited"] = u.limited;
+        return d;
+      },
+      py::arg("points"), py::arg("normals"), py::arg("neighborhoods"),
+      py::arg("is_texture") = py::none(), update_doc.c_str());
+}
+
+}  // namespace detexture::python

@@ -1,0 +1,170 @@
+"""detexture.remove_texture against the command line, its inputs, errors,
+GIL release and cancellation."""
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import detexture
+from conftest import run_cli
+
+
+def test_result_is_bitwise_the_command_lines(cube, work):
+    out = work / "cli_out.ply"
+    layer = work / "cli_layer.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--delta", "0.85", "--texture-fields",
+            "--texture-layer", layer, "-q", "-j", "2", "--force")
+    cloud = detexture.read_point_cloud(cube)
+    r = detexture.remove_texture(cloud.positions, cloud.normals, radius=0.09, texture_delta=0.85,
+                                 threads=2)
+    cli = detexture.read_point_cloud(out)
+    assert np.array_equal(cli.positions, r.positions)
+    assert np.array_equal(cli.normals, r.normals)
+    assert np.array_equal(cli.extras["texture"], r.is_texture.astype(np.uint8))
+    assert np.array_equal(cli.extras["texture_height"], r.texture_height.astype(np.float32))
+    # The files the library's texture_fields functions give are the CLI's, byte for byte.
+    mine, mine_layer = work / "py_out.ply", work / "py_layer.ply"
+    detexture.write_point_cloud(mine, detexture.detextured_cloud(cloud, r, texture_fields=True))
+    detexture.write_point_cloud(mine_layer, detexture.texture_layer(cloud, r))
+    assert mine.read_bytes() == out.read_bytes()
+    assert mine_layer.read_bytes() == layer.read_bytes()
+    # A PointCloud may be passed whole.
+    again = detexture.remove_texture(cloud, radius=0.09, texture_delta=0.85, threads=1)
+    assert np.array_equal(again.positions, r.positions)
+
+
+def test_float32_and_any_layout_are_accepted(cube):
+    cloud = detexture.read_point_cloud(cube)
+    P = cloud.positions.astype(np.float32)
+    ref = detexture.remove_texture(P.astype(np.float64), radius=0.09)
+    assert np.array_equal(detexture.remove_texture(P, radius=0.09).positions, ref.positions)
+    wide = np.zeros((len(P), 6), dtype=np.float32)
+    wide[:, ::2] = P  # a strided view: every other column
+    fortran = np.asfortranarray(P)
+    for view in (wide[:, ::2], fortran):
+        assert not view.flags.c_contiguous
+        assert np.array_equal(detexture.remove_texture(view, radius=0.09).positions, ref.positions)
+
+
+def test_result_arrays_and_report(cube):
+    r = detexture.remove_texture(detexture.read_point_cloud(cube), radius=0.09)
+    n = len(r)
+    assert r.positions.shape == (n, 3) and r.positions.dtype == np.float64
+    assert r.is_texture.dtype == np.bool_ and r.texture_height.shape == (n,)
+    d = r.report.to_dict()
+    assert d["texture_points"] == r.report.texture_points == int(r.is_texture.sum()) > 0
+    assert d["radius"] == r.report.radius == 0.09
+    assert d["radius_choice"] == "given"
+    assert list(d["timings"])[0] == "spatial order"
+    assert d["neighbors"]["mean"] == r.report.neighbors.mean > 10
+
+
+def test_defaults_and_docs_come_from_the_cpp_struct():
+    d = detexture.default_parameters()
+    # The header's defaults (remove_texture.h, detect_texture.h, ...).
+    assert d["radius"] == "1.5t" and d["lambda_"] == "0.05r" and d["sigma_s"] == "1r"
+    assert d["texture_delta"] == 0.8 and d["texture_planes"] == 3 and d["threads"] == 0
+    assert d["update_mode"] == detexture.UpdateMode.Global
+    assert "update_max_move" not in d and "texture_lambda" not in d  # filled from above
+    doc = detexture.remove_texture.__doc__
+    assert doc.startswith("remove_texture(points, normals=None, *, radius='1.5t',")
+    assert "texture_delta : float, default 0.8" in doc
+    assert "fraction of a point's neighborhoods in which it must be an inlier" in doc
+
+
+def test_keywords_take_names_and_lengths(cube):
+    P = detexture.read_point_cloud(cube).positions
+    a = detexture.remove_texture(P, radius="0.09", update_mode="isotropic",
+                                 rolling_guidance_mode="patch-shift", rolling_iterations=2)
+    b = detexture.remove_texture(P, radius=0.09, update_mode=detexture.UpdateMode.Isotropic,
+                                 rolling_iterations=2)
+    assert np.array_equal(a.positions, b.positions)
+    assert a.report.rolling_iterations <= 2
+
+
+def cli_error(*args):
+    r = run_cli(*args, check=False)
+    assert r.returncode != 0
+    return r.stderr.strip().removeprefix("detexture: error: ")
+
+
+def test_errors_raise_the_right_exception(cube, work):
+    P = detexture.read_point_cloud(cube).positions
+    with pytest.raises(ValueError, match=r"shape \(N, 3\), got \(10, 2\)"):
+        detexture.remove_texture(np.zeros((10, 2)))
+    with pytest.raises(ValueError, match="shape"):
+        detexture.remove_texture(np.zeros(9))
+    bad = P.copy()
+    bad[5, 1] = np.nan
+    with pytest.raises(ValueError, match="row 5 has a NaN"):
+        detexture.remove_texture(bad)
+    with pytest.raises(ValueError, match="empty"):
+        detexture.remove_texture(np.zeros((0, 3)))
+    with pytest.raises(ValueError, match="as many rows"):
+        detexture.remove_texture(P, np.zeros((3, 3)))
+    # The same sentence as the command line's.
+    message = cli_error(cube, "-o", work / "never.ply", "--delta", "1.5")
+    with pytest.raises(ValueError) as e:
+        detexture.remove_texture(P, texture_delta=1.5)
+    assert str(e.value) == message
+    with pytest.raises(ValueError):
+        detexture.remove_texture(P, radius="3x")
+    with pytest.raises(ValueError, match="one of Global, Isotropic, Eq9"):
+        detexture.remove_texture(P, update_mode="sideways")
+    with pytest.raises(TypeError, match="unexpected keyword argument 'delta'"):
+        detexture.remove_texture(P, delta=0.8)
+    with pytest.raises(TypeError):
+        detexture.remove_texture(P, rolling_iterations=2.5)
+    with pytest.raises(TypeError):
+        detexture.remove_texture(P, reorient=1)
+
+
+def test_the_gil_is_released_during_the_work(cube):
+    P = detexture.read_point_cloud(cube).positions
+    ticks = []
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=count)
+    t.start()
+    time.sleep(0.01)
+    start = time.perf_counter()
+    detexture.remove_texture(P, radius=0.12, threads=1)
+    end = time.perf_counter()
+    done.set()
+    t.join()
+    during = [x for x in ticks if start < x < end]
+    assert end - start > 0.1
+    # With the GIL held, the counting thread could not tick at all during the call.
+    assert len(during) > 0.3 * (end - start) / 0.001 * 0.1
+
+
+def test_progress_is_reported_and_an_exception_cancels(cube):
+    P = detexture.read_point_cloud(cube).positions
+    seen = []
+    detexture.remove_texture(P, radius=0.09, progress=lambda s, f: seen.append((s, f)))
+    stages = [s for s, _ in seen]
+    assert "detect texture" in stages and "update positions" in stages
+    assert all(0.0 <= f <= 1.0 for _, f in seen)
+
+    class Stop(Exception):
+        pass
+
+    calls = []
+
+    def stop_at_detection(stage, fraction):
+        calls.append(stage)
+        if stage == "detect texture":
+            raise Stop("enough")
+
+    with pytest.raises(Stop, match="enough"):
+        detexture.remove_texture(P, radius=0.09, progress=stop_at_detection)
+    assert "detect texture" in calls and "update positions" not in calls
+    assert calls.count("detect texture") == 1  # no further calls after the exception
+    with pytest.raises(TypeError):
+        detexture.remove_texture(P, progress=3)

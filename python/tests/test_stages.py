@@ -1,0 +1,52 @@
+"""The stages run alone give what remove_texture's pieces give, on cases
+with known answers."""
+import numpy as np
+import pytest
+
+import detexture
+
+
+def bumpy_plane(side=41, amplitude=0.03, width=0.05):
+    """A unit square grid at z = 0 with one Gaussian bump in the middle."""
+    x, y = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side), indexing="ij")
+    h = amplitude * np.exp(-((x - 0.5) ** 2 + (y - 0.5) ** 2) / (2 * width ** 2))
+    P = np.column_stack([x.ravel(), y.ravel(), h.ravel()])
+    N = np.tile([0.0, 0.0, 1.0], (len(P), 1))
+    return P, N, h.ravel()
+
+
+def test_detect_texture_finds_the_bump():
+    P, N, h = bumpy_plane()
+    R = detexture.radius_neighborhoods(P, 0.08)
+    t = detexture.detect_texture(P, R, N, lambda_=0.002)
+    assert t["is_texture"].dtype == np.bool_
+    assert t["is_texture"][h > 0.01].all()  # the top of the bump is texture
+    assert not t["is_texture"][h < 1e-6].any()  # the far flat part is surface
+    assert t["texture_points"] == int(t["is_texture"].sum())
+    with pytest.raises(ValueError):  # λ has no default for a stage run alone
+        detexture.detect_texture(P, R)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'texture_delta'"):
+        detexture.detect_texture(P, R, lambda_=0.002, texture_delta=0.8)
+    assert detexture.detect_texture(P, R, N, lambda_=0.002, delta=0.99)["texture_points"] >= \
+        t["texture_points"]  # a larger δ marks more points texture
+    with pytest.raises(ValueError, match="neighborhoods are of"):
+        detexture.detect_texture(P[:10], R, lambda_=0.002)
+
+
+def test_filters_and_update_flatten_the_bump():
+    P, N, h = bumpy_plane()
+    R = detexture.radius_neighborhoods(P, 0.08)
+    t = detexture.detect_texture(P, R, N, lambda_=0.002)
+    g = detexture.filter_normals_gaussian(P, N, R, t["omega"], sigma_s=0.08)
+    r = detexture.filter_normals_rolling(P, N, g["normals"], R, t["omega"], sigma_s=0.08)
+    assert np.allclose(np.linalg.norm(r["normals"], axis=1), 1.0)
+    # The normals of a flat plane's filter are straight up.
+    assert np.abs(r["normals"][:, 2]).min() > 0.99
+    u = detexture.update_positions(P, r["normals"], R, t["is_texture"], sigma_p=0.04,
+                                   solve_radius=0.04)
+    assert np.abs(u["positions"][:, 2]).max() < 0.3 * h.max()  # the bump is mostly gone
+    assert u["mean_displacement"] > 0
+    with pytest.raises(ValueError, match="omega is needed"):
+        detexture.filter_normals_gaussian(P, N, R, sigma_s=0.08)
+    with pytest.raises(ValueError, match="is_texture is needed"):
+        detexture.update_positions(P, N, R, sigma_p=0.04)
