@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "detexture/io/face_list.h"
 #include "detexture/io/output_file.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
@@ -300,14 +301,14 @@ int run_detexture(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal error, 2 bad parameter, 3 bad input, 4 output cannot be "
       "written, 5 resource limit, 130/143/129 interrupted (README, Exit codes).\n"
       "'detexture --version' prints the version and commit; 'detexture help' is this text.");
-  app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
+  app.add_option("INPUT", input, "Input point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .txt, .pts, .csv)")
       ->required();
-  app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...); required");
-  app.add_option("--input-format", format_in, "Input format: auto (by extension), ply, xyz")
+  app.add_option("-o,--output", output, "Output point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz ...); required");
+  app.add_option("--input-format", format_in, "Input format: auto (by extension), ply, obj, off, stl, pcd, xyz")
       ->capture_default_str();
-  app.add_option("--output-format", format_out, "Output format: auto (by extension), ply, xyz")
+  app.add_option("--output-format", format_out, "Output format: auto (by extension), ply, obj, off, stl, pcd, xyz")
       ->capture_default_str();
-  app.add_option("--encoding", encoding, "PLY output: binary, ascii, binary-big-endian")
+  app.add_option("--encoding", encoding, "Output encoding: binary, ascii (PLY, STL, PCD), binary-big-endian (PLY), binary-compressed (PCD)")
       ->capture_default_str();
   app.add_flag("-f,--force", force,
                "Overwrite OUTPUT if it exists; run even when r would put a large share of the "
@@ -509,8 +510,13 @@ int run_detexture(int argc, char** argv) {
       write_options.encoding = PlyEncoding::Ascii;
     else if (encoding == "binary-big-endian")
       write_options.encoding = PlyEncoding::BinaryBigEndian;
+    else if (encoding == "binary-compressed")
+      write_options.compressed = true;
     else
-      throw std::invalid_argument("--encoding must be binary, ascii or binary-big-endian");
+      throw std::invalid_argument(
+          "--encoding must be binary, ascii, binary-big-endian or binary-compressed");
+    std::vector<std::string> write_notices;
+    write_options.notices = &write_notices;
     if (scale_report) return print_scale_report(input, in_format, params);
     // Check the outputs before the work, so a long run does not end in a refusal.
     try {
@@ -519,9 +525,11 @@ int run_detexture(int argc, char** argv) {
       throw OutputError(e.what());
     }
     for (const std::string& path : {output, texture_layer}) {
-      if (path.empty() || out_format != FileFormat::Auto) continue;
+      if (path.empty()) continue;
       try {
-        (void)format_from_extension(path);
+        check_write_options(path, write_options);
+      } catch (const std::invalid_argument&) {
+        throw;
       } catch (const std::runtime_error& e) {
         throw std::invalid_argument(e.what());  // a usage error: exit 2
       }
@@ -540,6 +548,12 @@ int run_detexture(int argc, char** argv) {
     }
     const double read_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const std::string& path : {output, texture_layer})
+      if (!path.empty() && !has_faces(cloud) &&
+          (out_format == FileFormat::Auto ? format_from_extension(path) : out_format) ==
+              FileFormat::Stl)
+        throw std::invalid_argument("'" + path + "': STL holds triangles, and '" + input +
+                                    "' has no faces; write .ply, .xyz or .pcd for a point cloud");
     for (const auto& notice : read_report.notices) printer.note("detexture: note: " + notice);
     printer.note("read " + std::to_string(cloud.size()) + " points from " + input +
                  (cloud.has_normals() ? " (with normals)" : " (no normals: estimating them)"));
@@ -586,6 +600,7 @@ int run_detexture(int argc, char** argv) {
     } catch (const std::exception& e) {
       throw OutputError(e.what());
     }
+    for (const auto& notice : write_notices) printer.note("detexture: note: " + notice);
     const double write_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 
