@@ -76,7 +76,8 @@ PointCloud pyramid() {
   c.positions.resize(5, 3);
   c.positions << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 0.1 + 0.2, 1.0 / 3.0;
   c.normals.resize(5, 3);
-  for (int i = 0; i < 5; ++i) c.normals.row(i) = (c.positions.row(i) - Eigen::RowVector3d(0.5, 0.5, 0.2)).normalized();
+  for (int i = 0; i < 5; ++i)
+    c.normals.row(i) = (c.positions.row(i) - Eigen::RowVector3d(0.5, 0.5, 0.2)).normalized();
   FaceList faces;
   const std::uint32_t quad[] = {0, 3, 2, 1}, t[4][3] = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
   faces.add(quad, 4);
@@ -169,8 +170,7 @@ TEST(Obj, BadFilesNameTheLine) {
             std::string::npos);
   EXPECT_NE(read_error(dir.write("b.obj", "v 0 0\n")).find("line 1: a vertex with 2 values"),
             std::string::npos);
-  EXPECT_NE(read_error(dir.write("c.obj", "v 0 0 nan\n")).find("line 1: a NaN"),
-            std::string::npos);
+  EXPECT_NE(read_error(dir.write("c.obj", "v 0 0 nan\n")).find("line 1: a NaN"), std::string::npos);
   EXPECT_NE(read_error(dir.write("d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"))
                 .find("line 4: '0' is not a face corner"),
             std::string::npos);
@@ -216,17 +216,16 @@ TEST(Off, BadFilesNameTheLine) {
   EXPECT_NE(read_error(dir.write("a.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"))
                 .find("line 6: face 0 refers to vertex '3'"),
             std::string::npos);
-  EXPECT_NE(read_error(dir.write("b.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"))
-                .find("more than the"),
+  EXPECT_NE(read_error(dir.write("b.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n")).find("more than the"),
             std::string::npos);
   EXPECT_NE(read_error(dir.write("c.off", "4OFF\n1 0 0\n0 0 0 0\n")).find("line 1"),
             std::string::npos);
   EXPECT_NE(read_error(dir.write("d.off", "OFF 3 0 0\n0 0 0\n1 0 0\n0 1          \n"))
                 .find("line 4: vertex 2 has 2 values"),
             std::string::npos);
-  EXPECT_NE(read_error(dir.write("e.off", "OFF 1 0 0\n0 0 0\n1 1 1\n"))
-                .find("line 3: unexpected data"),
-            std::string::npos);
+  EXPECT_NE(
+      read_error(dir.write("e.off", "OFF 1 0 0\n0 0 0\n1 1 1\n")).find("line 3: unexpected data"),
+      std::string::npos);
 }
 
 TEST(Stl, AsciiCornersAreWeldedByPosition) {
@@ -285,9 +284,10 @@ TEST(Stl, BadFilesAreRefused) {
   bytes[80] = 2;
   EXPECT_NE(read_error(dir.write("t.stl", bytes)).find("does not match the 2 triangles"),
             std::string::npos);
-  EXPECT_NE(read_error(dir.write("a.stl", "solid x\n facet normal 0 0 1\n  outer loop\n"
-                                          "   vertex 0 0 0\n   vertex 1 0 0\n  endloop\n"
-                                          " endfacet\nendsolid\n"))
+  EXPECT_NE(read_error(dir.write("a.stl",
+                                 "solid x\n facet normal 0 0 1\n  outer loop\n"
+                                 "   vertex 0 0 0\n   vertex 1 0 0\n  endloop\n"
+                                 " endfacet\nendsolid\n"))
                 .find("line 7: a facet ends with 2 corners"),
             std::string::npos);
   EXPECT_NE(read_error(dir.write("b.stl", "solid x\nendsolid x\n")).find("no facet"),
@@ -372,15 +372,18 @@ TEST(Pcd, ReadsAHandWrittenFileAndDropsInvalidPoints) {
 
 TEST(Pcd, BadFilesAreRefusedWithTheLineOrByte) {
   FormatDir dir;
-  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
-                             "WIDTH 2\nHEIGHT 1\nPOINTS 2\n";
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 2\nHEIGHT 1\nPOINTS 2\n";
   EXPECT_NE(read_error(dir.write("a.pcd", header + "DATA binary\n" + std::string(23, '\0')))
                 .find("truncated binary data"),
             std::string::npos);
-  EXPECT_NE(read_error(dir.write("b.pcd", header + "DATA ascii\n1 2 3         \n")).find("ends after 1"),
-            std::string::npos);
-  EXPECT_NE(read_error(dir.write("c.pcd", "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\n"
-                                          "WIDTH 1\nDATA ascii\n1 2\n"))
+  EXPECT_NE(
+      read_error(dir.write("b.pcd", header + "DATA ascii\n1 2 3         \n")).find("ends after 1"),
+      std::string::npos);
+  EXPECT_NE(read_error(dir.write("c.pcd",
+                                 "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\n"
+                                 "WIDTH 1\nDATA ascii\n1 2\n"))
                 .find("no field 'z'"),
             std::string::npos);
   EXPECT_NE(read_error(dir.write("d.pcd", header + "DATA lzma\n")).find("line 9: DATA 'lzma'"),
@@ -396,8 +399,9 @@ TEST(Pcd, BadFilesAreRefusedWithTheLineOrByte) {
   huge.append(reinterpret_cast<const char*>(claim), 8);
   huge += "abcd";
   EXPECT_NE(read_error(dir.write("f.pcd", huge)).find("uncompressed size"), std::string::npos);
-  EXPECT_NE(read_error(dir.write("g.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE I I I\n"
-                                          "WIDTH 1\nDATA ascii\n1 2 3\n"))
+  EXPECT_NE(read_error(dir.write("g.pcd",
+                                 "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE I I I\n"
+                                 "WIDTH 1\nDATA ascii\n1 2 3\n"))
                 .find("supported are"),
             std::string::npos);
 }

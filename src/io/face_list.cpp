@@ -41,8 +41,8 @@ FaceList face_list(const PointCloud& cloud) {
     // Skip the properties before the list to find its count and items.
     std::uint64_t at = element->row_offsets[row];
     for (int k = 0; k < list; ++k)
-      at += element->properties[k].is_list ? 1 + static_cast<std::uint64_t>(element->values[at])
-                                           : 1;
+      at +=
+          element->properties[k].is_list ? 1 + static_cast<std::uint64_t>(element->values[at]) : 1;
     const auto count = static_cast<std::uint64_t>(element->values[at]);
     for (std::uint64_t i = 0; i < count; ++i) {
       const double index = element->values[at + 1 + i];

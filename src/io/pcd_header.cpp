@@ -51,16 +51,14 @@ PcdHeader parse_pcd_header(std::string_view bytes, const std::string& path) {
   std::vector<std::string_view> tokens;
   std::vector<std::string_view> names, sizes, types, counts;
   bool have_width = false, have_points = false, have_data = false;
-  auto fail = [&](const std::string& what) {
-    throw_read_error(path, at_line(lines.line()), what);
-  };
+  auto fail = [&](const std::string& what) { throw_read_error(path, at_line(lines.line()), what); };
   while (!have_data && lines.next(&line)) {
     if (std::memchr(line.data(), '\0', line.size()))
       fail("a NUL byte in the header; this is not a PCD file");
     if (!line.empty() && line[0] == '#') {
-      header.comments.emplace_back(line.substr(line.find_first_not_of("# ") == std::string_view::npos
-                                                   ? line.size()
-                                                   : line.find_first_not_of("# ")));
+      header.comments.emplace_back(line.substr(
+          line.find_first_not_of("# ") == std::string_view::npos ? line.size()
+                                                                 : line.find_first_not_of("# ")));
       continue;
     }
     split_whitespace(line, &tokens);
@@ -148,8 +146,9 @@ PcdHeader parse_pcd_header(std::string_view bytes, const std::string& path) {
                            " and SIZE " + quoted(sizes[k]) +
                            "; supported are I and U of size 1, 2, 4 and F of size 4, 8");
     if (!counts.empty() && (!parse_count(counts[k], &count) || count == 0 || count > 100000))
-      throw_read_error(path, "", "field " + quoted(names[k]) + " has COUNT " +
-                                     quoted(counts[k]) + "; expected 1 to 100000");
+      throw_read_error(path, "",
+                       "field " + quoted(names[k]) + " has COUNT " + quoted(counts[k]) +
+                           "; expected 1 to 100000");
     field.count = static_cast<int>(count);
     field.offset = header.point_bytes;
     header.point_bytes += size * count;

@@ -51,7 +51,7 @@ PointCloud read_obj(std::string_view bytes, const std::string& path, ReadReport&
   std::vector<double> v, vn, colors;  // 3 per vertex / normal / coloured vertex
   std::size_t colored = 0, texcoords = 0, points_lines = 0, line_lines = 0;
   FaceList faces;
-  std::vector<std::int64_t> corner_normal;  // per face corner, -1 = none
+  std::vector<std::int64_t> corner_normal;     // per face corner, -1 = none
   std::map<std::string, std::size_t> ignored;  // keyword -> lines
   std::vector<std::uint32_t> polygon;
   std::vector<std::int64_t> polygon_normals;
@@ -98,9 +98,9 @@ PointCloud read_obj(std::string_view bytes, const std::string& path, ReadReport&
       }
     } else if (key == "vn") {
       if (tokens.size() != 4)
-        throw_read_error(path, at_line(lines.line()),
-                         "a normal with " + std::to_string(tokens.size() - 1) +
-                             " values; expected vn nx ny nz");
+        throw_read_error(
+            path, at_line(lines.line()),
+            "a normal with " + std::to_string(tokens.size() - 1) + " values; expected vn nx ny nz");
       numbers(1, vn, "normal");
     } else if (key == "vt") {
       ++texcoords;

@@ -99,8 +99,8 @@ PointCloud read_off(std::string_view bytes, const std::string& path, ReadReport&
       lines.fail("the file ends after " + std::to_string(i) + " of the " +
                  std::to_string(vertex_count) + " vertices");
     const std::size_t extra = tokens.size() - std::min(tokens.size(), columns);
-    if (tokens.size() < columns || (!colors && extra > 0) ||
-        (colors && extra != 3 && extra != 4) || (color_columns && extra != color_columns))
+    if (tokens.size() < columns || (!colors && extra > 0) || (colors && extra != 3 && extra != 4) ||
+        (color_columns && extra != color_columns))
       lines.fail("vertex " + std::to_string(i) + " has " + std::to_string(tokens.size()) +
                  " values; expected x y z" + (normals ? " nx ny nz" : "") +
                  (colors ? " r g b [a]" : ""));

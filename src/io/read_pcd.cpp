@@ -45,7 +45,8 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
   const PcdField* color = find("rgba");
   const bool alpha = color != nullptr;
   if (!color) color = find("rgb");
-  if (color && (color->type == ScalarType::Float64 || scalar_size(color->type) != 4)) color = nullptr;
+  if (color && (color->type == ScalarType::Float64 || scalar_size(color->type) != 4))
+    color = nullptr;
 
   PointCloud cloud;
   std::vector<Column> columns;
@@ -80,7 +81,8 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
   // checked against its declared sizes below.
   const std::uint64_t least_bytes =
       header.data == PcdData::Ascii ? 2 * columns.size() : header.point_bytes;
-  if (header.data != PcdData::BinaryCompressed && n > (left + 1) / std::max<std::uint64_t>(1, least_bytes))
+  if (header.data != PcdData::BinaryCompressed &&
+      n > (left + 1) / std::max<std::uint64_t>(1, least_bytes))
     throw_read_error(path, at_byte(header.data_offset),
                      "POINTS declares " + std::to_string(n) + " points, but only " +
                          std::to_string(left) + " bytes of data follow the header");
@@ -122,9 +124,9 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
                      bits <= 0xffffffffu) {
             v = static_cast<double>(bits);
           } else {
-            throw_read_error(path, at_line(lines.line()),
-                             quoted(tokens[c]) + " is not a packed colour (field " +
-                                 quoted(f.name) + ")");
+            throw_read_error(
+                path, at_line(lines.line()),
+                quoted(tokens[c]) + " is not a packed colour (field " + quoted(f.name) + ")");
           }
         } else if (parse_scalar(tokens[c], f.type, &v) != ParseResult::Ok) {
           throw_read_error(path, at_line(lines.line()),
@@ -137,11 +139,12 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
     }
     if (i != n)
       throw_read_error(path, at_line(lines.line() + 1),
-                       "the file ends after " + std::to_string(i) + " of the " +
-                           std::to_string(n) + " points POINTS declares");
+                       "the file ends after " + std::to_string(i) + " of the " + std::to_string(n) +
+                           " points POINTS declares");
   } else {
     std::vector<unsigned char> decompressed;
-    const unsigned char* data = reinterpret_cast<const unsigned char*>(bytes.data()) + header.data_offset;
+    const unsigned char* data =
+        reinterpret_cast<const unsigned char*>(bytes.data()) + header.data_offset;
     std::size_t data_bytes = left;
     if (header.data == PcdData::BinaryCompressed) {
       if (left < 8)
@@ -152,8 +155,7 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
       if (packed > left - 8)
         throw_read_error(path, at_byte(header.data_offset),
                          "truncated binary_compressed data: " + std::to_string(packed) +
-                             " compressed bytes declared, " + std::to_string(left - 8) +
-                             " follow");
+                             " compressed bytes declared, " + std::to_string(left - 8) + " follow");
       if (unpacked != n * header.point_bytes)
         throw_read_error(path, at_byte(header.data_offset + 4),
                          "the uncompressed size " + std::to_string(unpacked) + " is not POINTS " +
@@ -197,7 +199,8 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
       }
     if (!columns_first && data_bytes > n * header.point_bytes) {
       bool zeros = true;
-      for (std::size_t k = n * header.point_bytes; k < data_bytes && zeros; ++k) zeros = data[k] == 0;
+      for (std::size_t k = n * header.point_bytes; k < data_bytes && zeros; ++k)
+        zeros = data[k] == 0;
       if (!zeros)  // PCL pads its binary files with zeros to a page: not worth a notice
         report.notices.push_back("ignored " + std::to_string(data_bytes - n * header.point_bytes) +
                                  " bytes after the last point");
@@ -221,8 +224,8 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
   if (kept.size() < n)
     report.notices.push_back("dropped " + std::to_string(n - kept.size()) +
                              " points with NaN or infinite coordinates (PCL's invalid points); "
-                             "the output holds " + std::to_string(kept.size()) +
-                             " points, unorganized (HEIGHT 1)");
+                             "the output holds " +
+                             std::to_string(kept.size()) + " points, unorganized (HEIGHT 1)");
   const auto m = static_cast<Eigen::Index>(kept.size());
   cloud.positions.resize(m, 3);
   if (has_normals) cloud.normals.resize(m, 3);
@@ -262,8 +265,9 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
   const double* vp = header.viewpoint;
   if (vp[0] != 0 || vp[1] != 0 || vp[2] != 0 || vp[3] != 1 || vp[4] != 0 || vp[5] != 0 ||
       vp[6] != 0)
-    report.notices.push_back("the VIEWPOINT of the file is not written back (outputs get the "
-                             "identity)");
+    report.notices.push_back(
+        "the VIEWPOINT of the file is not written back (outputs get the "
+        "identity)");
   return cloud;
 }
 

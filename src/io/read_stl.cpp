@@ -94,9 +94,7 @@ PointCloud read_ascii(std::string_view bytes, const std::string& path, ReadRepor
   enum class State { Outside, Solid, Facet, Loop } state = State::Outside;
   std::uint32_t corner[3];
   int corners = 0;
-  auto fail = [&](const std::string& what) {
-    throw_read_error(path, at_line(lines.line()), what);
-  };
+  auto fail = [&](const std::string& what) { throw_read_error(path, at_line(lines.line()), what); };
   auto expect = [&](const char* what) {
     fail("expected " + std::string(what) + ", found " + quoted(tokens[0]));
   };
@@ -128,10 +126,11 @@ PointCloud read_ascii(std::string_view bytes, const std::string& path, ReadRepor
           state = State::Loop;
           corners = 0;
         } else if (key == "endfacet") {
-          if (corners != 3) fail("a facet ends with " + std::to_string(corners) + " corners; STL facets are triangles");
+          if (corners != 3)
+            fail("a facet ends with " + std::to_string(corners) +
+                 " corners; STL facets are triangles");
           faces.add(corner, 3);
-          degenerate +=
-              corner[0] == corner[1] || corner[1] == corner[2] || corner[0] == corner[2];
+          degenerate += corner[0] == corner[1] || corner[1] == corner[2] || corner[0] == corner[2];
           state = State::Solid;
         } else {
           expect("'outer loop' or 'endfacet'");
@@ -181,7 +180,8 @@ PointCloud read_stl(std::string_view bytes, const std::string& path, ReadReport&
     if (bytes.size() >= 84)
       throw_read_error(path, "",
                        "not an STL file: it does not start with 'solid', and as a binary STL its "
-                       "size (" + std::to_string(bytes.size()) + " bytes) does not match the " +
+                       "size (" +
+                           std::to_string(bytes.size()) + " bytes) does not match the " +
                            std::to_string(load_bytes<std::uint32_t>(
                                reinterpret_cast<const unsigned char*>(bytes.data()) + 80,
                                !host_is_little_endian())) +

@@ -11,8 +11,8 @@ void write_obj(OutputBuffer& out, const PointCloud& cloud, const std::string& pa
   const int rgb[3] = {find_extra(cloud, "red"), find_extra(cloud, "green"),
                       find_extra(cloud, "blue")};
   const bool colors = rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0;
-  note_left_out(cloud, colors ? std::vector<int>{rgb[0], rgb[1], rgb[2]} : std::vector<int>{},
-                true, "OBJ", notices);
+  note_left_out(cloud, colors ? std::vector<int>{rgb[0], rgb[1], rgb[2]} : std::vector<int>{}, true,
+                "OBJ", notices);
   std::string& text = out.text();
   for (const std::string& comment : cloud.comments) {
     if (comment.find_first_of("\r\n") != std::string::npos)

@@ -53,14 +53,15 @@ void write_pcd(OutputBuffer& out, const PointCloud& cloud, PcdData data, const s
   // As PCL's point types: rgb is a float holding the bits 0x00RRGGBB (a tiny
   // number, never NaN), rgba a uint32 0xAARRGGBB.
   if (packed)
-    fields.push_back({color[3] >= 0 ? "rgba" : "rgb",
-                      color[3] >= 0 ? ScalarType::UInt32 : ScalarType::Float32});
+    fields.push_back(
+        {color[3] >= 0 ? "rgba" : "rgb", color[3] >= 0 ? ScalarType::UInt32 : ScalarType::Float32});
   if (packed) fields.back().packed_color = true;
   std::unordered_set<std::string> taken;
   for (const OutField& f : fields) taken.insert(f.name);
   for (std::size_t k = 0; k < cloud.extras.size(); ++k) {
     const int index = static_cast<int>(k);
-    if (packed && (index == color[0] || index == color[1] || index == color[2] || index == color[3]))
+    if (packed &&
+        (index == color[0] || index == color[1] || index == color[2] || index == color[3]))
       continue;
     const PointProperty& p = cloud.extras[k];
     bool valid = !p.name.empty();
@@ -75,8 +76,8 @@ void write_pcd(OutputBuffer& out, const PointCloud& cloud, PcdData data, const s
     fields.push_back(f);
     for (double v : p.values)
       if (!fits_scalar(v, p.type))
-        throw_write_error(path, "a value of property " + quoted(p.name) + " does not fit its type " +
-                                    ply_type_name(p.type));
+        throw_write_error(path, "a value of property " + quoted(p.name) +
+                                    " does not fit its type " + ply_type_name(p.type));
   }
   if (notices)
     for (const OtherElement& e : cloud.other_elements)
@@ -113,7 +114,8 @@ void write_pcd(OutputBuffer& out, const PointCloud& cloud, PcdData data, const s
     for (int c = 0; c < 4; ++c) {
       const int k = color[c];
       const std::uint32_t byte =
-          k < 0 ? 0 : static_cast<std::uint32_t>(cloud.extras[static_cast<std::size_t>(k)].values[i]);
+          k < 0 ? 0
+                : static_cast<std::uint32_t>(cloud.extras[static_cast<std::size_t>(k)].values[i]);
       bits |= byte << (c == 3 ? 24 : 16 - 8 * c);
     }
     return bits;
@@ -162,8 +164,9 @@ void write_pcd(OutputBuffer& out, const PointCloud& cloud, PcdData data, const s
   std::size_t point_bytes = 0;
   for (const OutField& f : fields) point_bytes += scalar_size(f.type);
   if (n > 0xffffffffull / point_bytes)
-    throw_write_error(path, "the cloud is larger than binary_compressed PCD can hold (4 GiB); "
-                            "use --encoding binary");
+    throw_write_error(path,
+                      "the cloud is larger than binary_compressed PCD can hold (4 GiB); "
+                      "use --encoding binary");
   std::vector<unsigned char> plain(n * point_bytes);
   std::size_t at = 0;
   for (const OutField& f : fields) {

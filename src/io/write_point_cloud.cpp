@@ -1,8 +1,8 @@
 #include "detexture/io/write_point_cloud.h"
 
 #include <cctype>
-#include <stdexcept>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 

@@ -28,14 +28,16 @@ void write_stl(OutputBuffer& out, const PointCloud& cloud, bool ascii, const std
   note_left_out(cloud, {}, true, "STL", notices);
   if (notices) {
     if (cloud.has_normals())
-      notices->push_back("STL holds one normal per triangle, none per vertex; the vertex normals "
-                         "are left out");
+      notices->push_back(
+          "STL holds one normal per triangle, none per vertex; the vertex normals "
+          "are left out");
     if (polygons > 0)
       notices->push_back(std::to_string(polygons) +
                          " polygons of more than 3 corners are split into triangles");
     if (!ascii && cloud.position_type != ScalarType::Float32)
-      notices->push_back("binary STL stores single precision: coordinates are rounded to float "
-                         "(--encoding ascii keeps them exactly)");
+      notices->push_back(
+          "binary STL stores single precision: coordinates are rounded to float "
+          "(--encoding ascii keeps them exactly)");
   }
   const double float_max = std::numeric_limits<float>::max();
   if (!ascii && cloud.positions.size() > 0 && cloud.positions.cwiseAbs().maxCoeff() > float_max)
