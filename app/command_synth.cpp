@@ -72,9 +72,10 @@ int run_synth(int argc, char** argv) {
   app.add_option("--shape", shape, "Base shape ('mesh' needs --base-mesh)")
       ->check(CLI::IsMember(names(base_shape_name, 12)))
       ->capture_default_str();
-  app.add_option("--base-mesh", base_mesh,
-                 "Use the triangle mesh of this PLY file (vertex x y z, face vertex_indices) as "
-                 "the base surface, coordinates as they are; implies --shape mesh");
+  app.add_option(
+      "--base-mesh", base_mesh,
+      "Use the triangle mesh of this file (.ply, .obj, .off, .stl: vertices and faces) as "
+      "the base surface, coordinates as they are; implies --shape mesh");
   app.add_option("--texture", texture, "Texture on the base shape")
       ->check(CLI::IsMember(names(texture_kind_name, 8)))
       ->capture_default_str();

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The real-shape suite's meshes as textured meshes (issue 13).
 
-    bench/mesh_suite.py BUILD [--peers-build PEERS_BUILD] [--work DIR] [--cases a,b] [--write]
+    bench/mesh_suite.py BUILD [--peers-build PEERS_BUILD] [--work DIR] [--cases a,b] [--write] [--reuse]
 
 For every mesh case of bench/quality_suite.py's REAL_SUITE:
   1. bench/peers/prepare_mesh makes the base mesh, as for bench/quality_real,
@@ -34,6 +34,7 @@ sys.path.insert(0, HERE)
 import quality_suite as qs  # noqa: E402
 
 MAX_VERTICES = 400_000
+REUSE = False  # --reuse: take any existing output as made by the current command
 SPACINGS_PER_R = 4.0
 
 
@@ -75,6 +76,22 @@ def prepare(peers, mesh, size, work):
         level += 1
 
 
+def made_by(cmd, out):
+    """Whether out exists and was made by cmd with the same detexture binary (a rerun of the
+    report after an interrupted run reuses it)."""
+    key = out + ".key.json"
+    if REUSE and os.path.exists(out):
+        return True
+    if not (os.path.exists(out) and os.path.exists(key)):
+        return False
+    return json.load(open(key)) == {"command": cmd, "binary": os.path.getmtime(cmd[0])}
+
+
+def store_made_by(cmd, out):
+    with open(out + ".key.json", "w") as f:
+        json.dump({"command": cmd, "binary": os.path.getmtime(cmd[0])}, f)
+
+
 def compare(build, result, truth):
     p = run([os.path.join(build, "detexture"), "compare", result, truth, "--json"])
     return json.loads(p.stdout)
@@ -87,7 +104,11 @@ def main():
     ap.add_argument("--work")
     ap.add_argument("--cases")
     ap.add_argument("--write", action="store_true")
+    ap.add_argument("--reuse", action="store_true",
+                    help="reuse existing outputs in the work folder whatever made them")
     a = ap.parse_args()
+    global REUSE
+    REUSE = a.reuse
     build = os.path.abspath(a.build)
     peers = os.path.abspath(a.peers_build or a.build)
     work = os.path.abspath(a.work or os.path.join(build, "bench-mesh"))
@@ -107,14 +128,18 @@ def main():
                  "--ground-truth", stem + ".gt.ply"]
         if case.mixed_signs:
             synth.append("--mixed-signs")
-        run(synth, stem + ".synth.log")
+        if not made_by(synth, stem + ".ply"):
+            run(synth, stem + ".synth.log")
+            store_made_by(synth, stem + ".ply")
         r = qs.RADIUS_FACTOR * case.size
         results = {"input": (stem + ".ply", None)}
         for mode in ("cloud", "faces"):
             out = f"{stem}.{mode}.ply"
             cmd = [det, stem + ".ply", "-o", out, "-r", qs.fmt(r), "--sigma-s", qs.fmt(r),
                    "--mesh", mode, "--stats", out[:-4] + ".json", "-f", "-q"]
-            run(cmd, out[:-4] + ".log")
+            if not made_by(cmd, out):
+                run(cmd, out[:-4] + ".log")
+                store_made_by(cmd, out)
             results[mode] = (out, json.load(open(out[:-4] + ".json")))
         errors = {k: compare(build, path, stem + ".gt.ply") for k, (path, _) in results.items()}
         picture = os.path.join(work, "pictures", case.name + ".png")

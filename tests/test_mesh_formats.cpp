@@ -404,6 +404,29 @@ TEST(Pcd, BadFilesAreRefusedWithTheLineOrByte) {
                                  "WIDTH 1\nDATA ascii\n1 2 3\n"))
                 .find("supported are"),
             std::string::npos);
+  EXPECT_NE(read_error(dir.write("h.pcd",
+                                 "VERSION 0.7\nFIELDS x y z x\nSIZE 4 4 4 4\n"
+                                 "TYPE F F F F\nWIDTH 1\nDATA ascii\n1 2 3 4\n"))
+                .find("two fields are named 'x'"),
+            std::string::npos);
+  EXPECT_NE(read_error(dir.write("i.pcd",
+                                 "VERSION 0.7\nFIELDS x y z h h_1\nSIZE 4 4 4 4 4\n"
+                                 "TYPE F F F F F\nCOUNT 1 1 1 2 1\nWIDTH 1\n"
+                                 "DATA ascii\n1 2 3 4 5 6\n"))
+                .find("would both be named 'h_1'"),
+            std::string::npos);
+}
+
+TEST(Pcd, AColourBesideFieldsNamedRedStaysPacked) {
+  FormatDir dir;
+  const PointCloud c = read_point_cloud(
+      dir.write("c.pcd",
+                "VERSION 0.7\nFIELDS x y z rgb red\nSIZE 4 4 4 4 1\nTYPE F F F U U\n"
+                "WIDTH 1\nDATA ascii\n1 2 3 16714243 9\n"));
+  ASSERT_EQ(c.extras.size(), 2u);
+  EXPECT_EQ(c.extras[0].name, "rgb");
+  EXPECT_EQ(c.extras[0].values[0], 16714243.0);
+  EXPECT_EQ(c.extras[1].name, "red");
 }
 
 // Debian's assimp-testmodels: the same model as OBJ, OFF and STL.

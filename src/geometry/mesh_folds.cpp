@@ -58,7 +58,10 @@ Eigen::Vector3d triangle_normal(const Positions& P, const TriangleIndices& T, Ei
 std::vector<double> dihedral_angles_deg(const Positions& P, const TriangleIndices& T,
                                         const InteriorEdges& edges) {
   std::vector<double> angles(edges.size());
-  for (std::size_t e = 0; e < edges.size(); ++e) {
+  const auto count = static_cast<std::int64_t>(edges.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t k = 0; k < count; ++k) {
+    const auto e = static_cast<std::size_t>(k);
     const Eigen::Vector3d a = triangle_normal(P, T, edges.left[e]);
     const Eigen::Vector3d b = triangle_normal(P, T, edges.right[e]);
     angles[e] =
@@ -80,8 +83,11 @@ MeshFolds measure_folds(const Positions& P, const TriangleIndices& T, const Posi
     m.p99_dihedral_deg = angles[k];
   }
   m.triangles = static_cast<std::size_t>(T.rows());
+  std::size_t flipped = 0;
+#pragma omp parallel for schedule(static) reduction(+ : flipped)
   for (Eigen::Index t = 0; t < T.rows(); ++t)
-    m.flipped += triangle_normal(P, T, t).dot(triangle_normal(reference, T, t)) < 0.0;
+    flipped += triangle_normal(P, T, t).dot(triangle_normal(reference, T, t)) < 0.0;
+  m.flipped = flipped;
   return m;
 }
 

@@ -136,6 +136,13 @@ PcdHeader parse_pcd_header(std::string_view bytes, const std::string& path) {
                          std::to_string(header.width) + " times HEIGHT " +
                          std::to_string(header.height));
   for (std::size_t k = 0; k < names.size(); ++k) {
+    for (std::size_t j = 0; j < k; ++j)
+      if (names[j] == names[k] && names[k] != "_")
+        throw_read_error(path, "", "two fields are named " + quoted(names[k]));
+    for (const char c : names[k])
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        throw_read_error(path, "",
+                         "the field name " + quoted(names[k]) + " contains a control character");
     PcdField field;
     field.name = std::string(names[k]);
     std::uint64_t size = 0, count = 1;

@@ -2,6 +2,7 @@
 
 #include <lzf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -47,6 +48,22 @@ PointCloud read_pcd(std::string_view bytes, const std::string& path, ReadReport&
   if (!color) color = find("rgb");
   if (color && (color->type == ScalarType::Float64 || scalar_size(color->type) != 4))
     color = nullptr;
+  // The names the extras would get; the colour is unpacked into red, green,
+  // blue [alpha] only when no field takes those names (else it stays packed).
+  std::vector<std::string> names;
+  for (const PcdField& f : header.fields)
+    for (int item = 0; item < f.count; ++item)
+      if (f.name != "_")
+        names.push_back(f.count == 1 ? f.name : f.name + "_" + std::to_string(item));
+  for (const char* name : {"red", "green", "blue", "alpha"})
+    if (std::find(names.begin(), names.end(), name) != names.end()) color = nullptr;
+  {
+    std::vector<std::string> sorted = names;
+    std::sort(sorted.begin(), sorted.end());
+    const auto twin = std::adjacent_find(sorted.begin(), sorted.end());
+    if (twin != sorted.end())
+      throw_read_error(path, "", "two fields or field items would both be named " + quoted(*twin));
+  }
 
   PointCloud cloud;
   std::vector<Column> columns;

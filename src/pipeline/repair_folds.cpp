@@ -70,8 +70,12 @@ Positions repair_folds(const Positions& input, const Positions& output, const Tr
         mark(edges.left[e]);
         mark(edges.right[e]);
       }
+    std::vector<std::uint8_t> flipped(static_cast<std::size_t>(T.rows()));
+#pragma omp parallel for schedule(static)
     for (Eigen::Index t = 0; t < T.rows(); ++t)
-      if (unit_normal(Q, T, t).dot(input_normal[t]) < 0.0) mark(t);
+      flipped[t] = unit_normal(Q, T, t).dot(input_normal[t]) < 0.0;
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      if (flipped[t]) mark(t);
     if (!any) break;
     ++rep.rounds;
     for (std::size_t i = 0; i < keep.size(); ++i) {
