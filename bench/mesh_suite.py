@@ -208,8 +208,10 @@ def report(rows):
                 folded, flipped, p99 = f["folded_edges"], f["flipped_triangles"], f["p99_dihedral_deg"]
                 held = m["vertices_held"] if key == "faces" else "-"
                 secs = f"{stats['seconds']['total']:.1f}"
+            angle = ("-" if e["normal_angle_mean_degrees"] is None
+                     else f"{e['normal_angle_mean_degrees']:.1f}")
             out.append(f"| {label} | {e['dmean_relative']:.5f} | {e['dmax_relative']:.5f} | "
-                       f"{e['normal_angle_mean_degrees']:.1f} | {share(folded, edges)} | "
+                       f"{angle} | {share(folded, edges)} | "
                        f"{share(flipped, tris)} | {p99:.1f} | {held} | {secs} |")
         out.append("")
     return "\n".join(out) + "\n"
