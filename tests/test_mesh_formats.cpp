@@ -226,6 +226,10 @@ TEST(Off, BadFilesNameTheLine) {
   EXPECT_NE(
       read_error(dir.write("e.off", "OFF 1 0 0\n0 0 0\n1 1 1\n")).find("line 3: unexpected data"),
       std::string::npos);
+  // 4 x 2^62 faces would wrap around to 0 bytes in 64 bits.
+  EXPECT_NE(
+      read_error(dir.write("f.off", "OFF 1 4611686018427387904 0\n0 0 0\n")).find("more than the"),
+      std::string::npos);
 }
 
 TEST(Stl, AsciiCornersAreWeldedByPosition) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -81,8 +82,11 @@ PointCloud read_off(std::string_view bytes, const std::string& path, ReadReport&
   if (vertex_count == 0) lines.fail("the file declares 0 vertices; the point cloud is empty");
   // Every vertex and face line holds at least "0 0 0\n"-like 2 bytes per
   // value: a count larger than the bytes left fails here, before allocating.
-  const std::uint64_t least = 6 * vertex_count + 4 * face_count;
-  if (least > lines.bytes_left() + 1 || vertex_count > std::numeric_limits<std::uint32_t>::max())
+  // (Each count is bounded first, so that the sum cannot overflow.)
+  const std::uint64_t left = lines.bytes_left() + 1;
+  if (vertex_count > left / 6 || face_count > left / 4 ||
+      6 * vertex_count + 4 * face_count > left ||
+      vertex_count > std::numeric_limits<std::uint32_t>::max())
     lines.fail("the counts declare " + std::to_string(vertex_count) + " vertices and " +
                std::to_string(face_count) + " faces, more than the " +
                std::to_string(lines.bytes_left()) + " bytes left in the file can hold");
