@@ -18,9 +18,11 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.h"
+#include "detexture/io/face_list.h"
 #include "detexture/io/output_file.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
@@ -197,6 +199,20 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.ransac_mean_iterations);
   add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
       r.update_iterations);
+  if (r.mesh) {
+    const auto& f = r.folds;
+    add("  \"mesh\": {\"triangles\": %zu, \"edges\": %zu, \"normals_from_faces\": %s, "
+        "\"vertices_held\": %zu, \"repair_rounds\": %d,\n",
+        r.triangles, f.input.edges, r.normals_from_faces ? "true" : "false", f.vertices_held,
+        f.rounds);
+    for (const auto& [name, m] : {std::pair<const char*, const MeshFolds&>{"input", f.input},
+                                  {"update", f.update},
+                                  {"output", f.output}})
+      add("    \"%s\": {\"folded_edges\": %zu, \"flipped_triangles\": %zu, "
+          "\"p99_dihedral_deg\": %.6g}%s\n",
+          name, m.folded, m.flipped, m.p99_dihedral_deg, std::string(name) == "output" ? "" : ",");
+    add("  },\n");
+  }
   add("  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib, read_s);
   for (const auto& t : r.timings) add("    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
   add("    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
@@ -289,14 +305,21 @@ int run_detexture(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal error, 2 bad parameter, 3 bad input, 4 output cannot be "
       "written, 5 resource limit, 130/143/129 interrupted (README, Exit codes).\n"
       "'detexture --version' prints the version and commit; 'detexture help' is this text.");
-  app.add_option("INPUT", input, "Input point cloud (.ply, .xyz, .xyzn, .txt, .pts, .csv)")
+  app.add_option(
+         "INPUT", input,
+         "Input point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .txt, .pts, .csv)")
       ->required();
-  app.add_option("-o,--output", output, "Output point cloud (.ply or .xyz ...); required");
-  app.add_option("--input-format", format_in, "Input format: auto (by extension), ply, xyz")
+  app.add_option("-o,--output", output,
+                 "Output point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz ...); required");
+  app.add_option("--input-format", format_in,
+                 "Input format: auto (by extension), ply, obj, off, stl, pcd, xyz")
       ->capture_default_str();
-  app.add_option("--output-format", format_out, "Output format: auto (by extension), ply, xyz")
+  app.add_option("--output-format", format_out,
+                 "Output format: auto (by extension), ply, obj, off, stl, pcd, xyz")
       ->capture_default_str();
-  app.add_option("--encoding", encoding, "PLY output: binary, ascii, binary-big-endian")
+  app.add_option("--encoding", encoding,
+                 "Output encoding: binary, ascii (PLY, STL, PCD), binary-big-endian (PLY), "
+                 "binary-compressed (PCD)")
       ->capture_default_str();
   app.add_flag("-f,--force", force,
                "Overwrite OUTPUT if it exists; run even when r would put a large share of the "
@@ -391,6 +414,13 @@ int run_detexture(int argc, char** argv) {
       ->type_name("MODE")
       ->default_str(name_of(differences, params.rolling.guidance.difference));
   app.add_flag("--no-blend", no_blend, "Skip the α blend of the guidance (Eqs. 7-8)");
+  std::string mesh_mode = "faces";
+  app.add_option("--mesh", mesh_mode,
+                 "An input with faces: 'faces' takes its normals from the faces (no PCA) and "
+                 "keeps the update from folding edges or flipping triangles; 'cloud' treats its "
+                 "vertices as an unconnected cloud (the paper)")
+      ->check(CLI::IsMember({"faces", "cloud"}))
+      ->capture_default_str();
   app.add_flag("--no-subneighborhood", no_subneighborhood,
                "Filter over all of R_i instead of the sub-neighborhood Ω_i (plain Gaussian, "
                "Fig. 4 ablation); also in Eq. 3");
@@ -504,8 +534,13 @@ int run_detexture(int argc, char** argv) {
       write_options.encoding = PlyEncoding::Ascii;
     else if (encoding == "binary-big-endian")
       write_options.encoding = PlyEncoding::BinaryBigEndian;
+    else if (encoding == "binary-compressed")
+      write_options.compressed = true;
     else
-      throw std::invalid_argument("--encoding must be binary, ascii or binary-big-endian");
+      throw std::invalid_argument(
+          "--encoding must be binary, ascii, binary-big-endian or binary-compressed");
+    std::vector<std::string> write_notices;
+    write_options.notices = &write_notices;
     if (scale_report) return print_scale_report(input, in_format, params);
     // Check the outputs before the work, so a long run does not end in a refusal.
     try {
@@ -514,9 +549,11 @@ int run_detexture(int argc, char** argv) {
       throw OutputError(e.what());
     }
     for (const std::string& path : {output, texture_layer}) {
-      if (path.empty() || out_format != FileFormat::Auto) continue;
+      if (path.empty()) continue;
       try {
-        (void)format_from_extension(path);
+        check_write_options(path, write_options);
+      } catch (const std::invalid_argument&) {
+        throw;
       } catch (const std::runtime_error& e) {
         throw std::invalid_argument(e.what());  // a usage error: exit 2
       }
@@ -535,6 +572,12 @@ int run_detexture(int argc, char** argv) {
     }
     const double read_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const std::string& path : {output, texture_layer})
+      if (!path.empty() && !has_faces(cloud) &&
+          (out_format == FileFormat::Auto ? format_from_extension(path) : out_format) ==
+              FileFormat::Stl)
+        throw std::invalid_argument("'" + path + "': STL holds triangles, and '" + input +
+                                    "' has no faces; write .ply, .xyz or .pcd for a point cloud");
     for (const auto& notice : read_report.notices) printer.note("detexture: note: " + notice);
     printer.note("read " + std::to_string(cloud.size()) + " points from " + input +
                  (cloud.has_normals() ? " (with normals)" : " (no normals: estimating them)"));
@@ -546,8 +589,15 @@ int run_detexture(int argc, char** argv) {
     // the pipeline can free them early: memory per point is a stated target.
     Normals normals = cloud.has_normals() ? std::move(cloud.normals) : Normals();
     cloud.normals = Normals();
-    RemoveTextureResult result =
-        remove_texture(std::move(cloud.positions), std::move(normals), params, printer.observer());
+    params.use_faces = mesh_mode == "faces";
+    FaceList faces;
+    try {
+      faces = face_list(cloud);
+    } catch (const std::invalid_argument& e) {
+      throw InputError("'" + input + "': " + e.what());
+    }
+    RemoveTextureResult result = remove_texture(std::move(cloud.positions), std::move(normals),
+                                                faces, params, printer.observer());
     cloud.positions = std::move(result.input_positions);
     if (result.report.duplicates_merged > 0)
       printer.note("detexture: note: " + std::to_string(result.report.duplicates_merged) +
@@ -565,6 +615,7 @@ int run_detexture(int argc, char** argv) {
     } catch (const std::exception& e) {
       throw OutputError(e.what());
     }
+    for (const auto& notice : write_notices) printer.note("detexture: note: " + notice);
     const double write_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 
@@ -593,6 +644,25 @@ int run_detexture(int argc, char** argv) {
                    r.neighbors.mean, r.neighbors.min, r.neighbors.max, r.texture_points,
                    100.0 * r.texture_points / cloud.size(), r.ransac_mean_iterations,
                    r.rolling_iterations, r.update_iterations, r.mean_displacement);
+      if (r.mesh) {
+        const auto& f = r.folds;
+        auto share = [](std::size_t k, std::size_t of) { return of ? 100.0 * k / of : 0.0; };
+        std::fprintf(stderr,
+                     "  mesh: %zu triangles%s; edges folded past %g°: input %zu (%.2f%%), "
+                     "output %zu (%.2f%%); flipped triangles: %zu (%.2f%%); 99th-percentile "
+                     "dihedral angle %.1f° -> %.1f°",
+                     r.triangles, r.normals_from_faces ? ", normals from the faces" : "",
+                     params.folds.fold_angle_deg, f.input.folded,
+                     share(f.input.folded, f.input.edges), f.output.folded,
+                     share(f.output.folded, f.output.edges), f.output.flipped,
+                     share(f.output.flipped, f.output.triangles), f.input.p99_dihedral_deg,
+                     f.output.p99_dihedral_deg);
+        if (f.vertices_held > 0)
+          std::fprintf(stderr,
+                       "; %zu vertices held back (the update alone: %zu folded, %zu flipped)",
+                       f.vertices_held, f.update.folded, f.update.flipped);
+        std::fprintf(stderr, "\n");
+      }
       if (r.moves_limited > 0)
         std::fprintf(stderr, "  moves cut to the limit %g (texture height %g): %zu points\n",
                      r.max_move, r.texture_height, r.moves_limited);

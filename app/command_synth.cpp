@@ -1,6 +1,7 @@
 // detexture synth: write a textured point cloud whose underlying surface is
 // known exactly, and a dense sample of that surface as ground truth.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -71,9 +72,10 @@ int run_synth(int argc, char** argv) {
   app.add_option("--shape", shape, "Base shape ('mesh' needs --base-mesh)")
       ->check(CLI::IsMember(names(base_shape_name, 12)))
       ->capture_default_str();
-  app.add_option("--base-mesh", base_mesh,
-                 "Use the triangle mesh of this PLY file (vertex x y z, face vertex_indices) as "
-                 "the base surface, coordinates as they are; implies --shape mesh");
+  app.add_option(
+      "--base-mesh", base_mesh,
+      "Use the triangle mesh of this file (.ply, .obj, .off, .stl: vertices and faces) as "
+      "the base surface, coordinates as they are; implies --shape mesh");
   app.add_option("--texture", texture, "Texture on the base shape")
       ->check(CLI::IsMember(names(texture_kind_name, 8)))
       ->capture_default_str();
@@ -104,7 +106,11 @@ int run_synth(int argc, char** argv) {
                  "Random seed; the same seed gives the same files on any thread count")
       ->capture_default_str();
   app.add_flag("--ascii", ascii, "Write ASCII PLY instead of binary little endian");
-  bool single = false, no_normals = false;
+  bool single = false, no_normals = false, at_vertices = false;
+  app.add_flag("--at-vertices", at_vertices,
+               "With --base-mesh: texture the base mesh's own vertices and keep its faces, so the "
+               "output is a textured mesh in the format of -o (.ply, .obj, .off, .stl); the mesh "
+               "should have several vertices per feature radius; --noise and -n do not apply");
   app.add_flag("--float", single,
                "Write positions, normals and texture_height in single precision (half the size)");
   app.add_flag("--no-normals", no_normals,
@@ -141,9 +147,14 @@ int run_synth(int argc, char** argv) {
     std::fprintf(stderr, "detexture synth: %s\n", e.what());
     return kExitUsage;
   }
+  if (at_vertices && base_mesh.empty()) {
+    std::fprintf(stderr, "detexture synth: --at-vertices needs --base-mesh\n");
+    return kExitUsage;
+  }
+  PointCloud mesh_cloud;
   if (!base_mesh.empty()) {
     try {
-      const PointCloud mesh_cloud = read_point_cloud(base_mesh);  // its errors name the file
+      mesh_cloud = read_point_cloud(base_mesh);  // its errors name the file
       try {
         params.mesh = std::make_shared<const BaseMesh>(base_mesh_from_cloud(mesh_cloud));
       } catch (const std::exception& e) {
@@ -156,6 +167,17 @@ int run_synth(int argc, char** argv) {
   }
   try {
     synth = synthesize_shape(params);
+    if (at_vertices) {
+      // The same features, evaluated at the mesh's vertices (which lie on the
+      // base surface): a textured mesh whose faces are the base mesh's.
+      TexturedSamples at = evaluate_texture(params, mesh_cloud.positions);
+      synth.positions = std::move(at.positions);
+      synth.normals = std::move(at.normals);
+      synth.is_texture.assign(at.heights.size(), 0);
+      for (std::size_t i = 0; i < at.heights.size(); ++i)
+        synth.is_texture[i] = std::abs(at.heights[i]) > kTextureHeightEpsilon;
+      synth.texture_heights = std::move(at.heights);
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "detexture synth: %s\n", e.what());
     return kExitUsage;
@@ -170,7 +192,9 @@ int run_synth(int argc, char** argv) {
     cloud.extras.push_back({"texture_height", real, std::move(synth.texture_heights)});
     cloud.extras.push_back({"is_texture", ScalarType::UInt8,
                             std::vector<double>(synth.is_texture.begin(), synth.is_texture.end())});
-    cloud.comments.push_back(describe(params, base_mesh));
+    cloud.comments.push_back(describe(params, base_mesh) +
+                             (at_vertices ? " (at the base mesh's vertices)" : ""));
+    if (at_vertices) cloud.other_elements = mesh_cloud.other_elements;
     write_point_cloud(output, cloud, options);
 
     PointCloud truth;

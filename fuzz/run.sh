@@ -4,7 +4,8 @@
 # dictionary. Exits non-zero if any run finds a crash, a leak or an oracle
 # failure; the input that did it is saved under $FUZZ_BUILD_DIR/artifacts.
 #
-#   fuzz/run.sh SECONDS [read_ply|read_xyz ...]    (default: every harness)
+#   fuzz/run.sh SECONDS [read_ply|read_xyz|read_obj|read_off|read_stl|read_pcd ...]
+#                                                    (default: every harness)
 #
 # Environment: FUZZ_BUILD_DIR (default build-fuzz at the root), FUZZ_CXX
 # (default clang++-14), FUZZ_RUNS=N to stop after N executions instead of
@@ -17,7 +18,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${FUZZ_BUILD_DIR:-$root/build-fuzz}
 cxx=${FUZZ_CXX:-clang++-14}
 readers=("$@")
-[ ${#readers[@]} -eq 0 ] && readers=(read_ply read_xyz)
+[ ${#readers[@]} -eq 0 ] && readers=(read_ply read_xyz read_obj read_off read_stl read_pcd)
 
 if [ -z "${FUZZ_NO_BUILD:-}" ]; then
   launcher=()

@@ -7,6 +7,8 @@
 #   libcli11-dev              command lines of every peer
 #   libassimp-dev             bench/peers/prepare_mesh (reads the models of bench/quality_real)
 #   assimp-testmodels         the real base meshes of bench/quality_real (/usr/share/assimp/models)
+#   pcl-tools                 pcl_pcd2ply / pcl_ply2pcd, for tests/test_pcd_pcl.cpp (our PCD
+#                             files against PCL's; the test is skipped without them)
 # Run as root (or with sudo available). Non-interactive and idempotent: running it
 # again installs nothing new.
 set -euo pipefail
@@ -38,6 +40,7 @@ PACKAGES=(
   libgl1-mesa-dri
   libassimp-dev
   assimp-testmodels
+  pcl-tools
 )
 
 $SUDO apt-get update

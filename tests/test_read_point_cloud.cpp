@@ -293,12 +293,18 @@ TEST(ReadFormat, FromExtensionAndName) {
   EXPECT_EQ(format_from_extension("dir.v2/a.PLY"), FileFormat::Ply);
   for (const char* name : {"a.xyz", "a.XYZN", "a.txt", "a.pts", "a.csv"})
     EXPECT_EQ(format_from_extension(name), FileFormat::Xyz) << name;
-  EXPECT_THROW(format_from_extension("a.obj"), std::runtime_error);
+  EXPECT_EQ(format_from_extension("a.obj"), FileFormat::Obj);
+  EXPECT_EQ(format_from_extension("a.OFF"), FileFormat::Off);
+  EXPECT_EQ(format_from_extension("a.Stl"), FileFormat::Stl);
+  EXPECT_EQ(format_from_extension("a.pcd"), FileFormat::Pcd);
+  EXPECT_THROW(format_from_extension("a.las"), std::runtime_error);
   EXPECT_THROW(format_from_extension("noextension"), std::runtime_error);
   EXPECT_EQ(parse_file_format("auto"), FileFormat::Auto);
   EXPECT_EQ(parse_file_format("ply"), FileFormat::Ply);
   EXPECT_EQ(parse_file_format("xyz"), FileFormat::Xyz);
-  EXPECT_THROW(parse_file_format("obj"), std::invalid_argument);
+  EXPECT_EQ(parse_file_format("obj"), FileFormat::Obj);
+  EXPECT_EQ(parse_file_format("pcd"), FileFormat::Pcd);
+  EXPECT_THROW(parse_file_format("las"), std::invalid_argument);
 }
 
 // One class of bad input: the file's content, and text the error message must
@@ -456,7 +462,7 @@ TEST(ReadErrors, MissingFileDirectoryAndUnknownExtension) {
   const std::string folder = dir.file("folder.ply");
   fs::create_directory(folder);
   EXPECT_NE(read_error(folder).find("directory"), std::string::npos);
-  const std::string unknown = dir.write("cloud.obj", "v 1 2 3\n");
+  const std::string unknown = dir.write("cloud.las", "v 1 2 3\n");
   EXPECT_NE(read_error(unknown).find(unknown), std::string::npos);
 }
 

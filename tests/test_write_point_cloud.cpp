@@ -350,7 +350,7 @@ TEST(WritePointCloud, AfterAFailedReadNoFileIsWritten) {
 
 TEST(WritePointCloud, BadTargetsAndCloudsThrowNamingTheFile) {
   WriteTempDir dir;
-  const std::string unknown = dir.file("out.obj");
+  const std::string unknown = dir.file("out.las");
   EXPECT_NE(write_error(unknown, simple_cloud()).find(unknown), std::string::npos);
   const std::string missing_folder = dir.file("missing/out.ply");
   EXPECT_NE(write_error(missing_folder, simple_cloud()).find(missing_folder), std::string::npos);

@@ -54,6 +54,19 @@ void check_name(std::string_view name, const std::string& path, std::size_t line
       fail(path, line, "the name " + quoted(name) + " contains a control character");
 }
 
+// The last element declared, when it has no properties: one of no rows is
+// dropped with a notice (PCL writes "element face 0" and nothing else for a
+// cloud), one with rows is an error, since its rows could not be read.
+void drop_empty_element(PlyHeader& header, const std::string& path) {
+  if (header.elements.empty() || !header.elements.back().properties.empty()) return;
+  const PlyElement& element = header.elements.back();
+  if (element.count != 0)
+    fail(path, element.line, "element " + quoted(element.name) + " has no properties");
+  header.notices.push_back("ignored element " + quoted(element.name) +
+                           ", which has no properties and no rows");
+  header.elements.pop_back();
+}
+
 }  // namespace
 
 PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
@@ -104,9 +117,7 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
     } else if (keyword == "element") {
       if (tokens.size() != 3) fail(path, n, "an element line must read 'element <name> <count>'");
       if (!have_format) fail(path, n, "the 'format' line must come before the first element");
-      if (!header.elements.empty() && header.elements.back().properties.empty())
-        fail(path, header.elements.back().line,
-             "element " + quoted(header.elements.back().name) + " has no properties");
+      drop_empty_element(header, path);
       check_name(tokens[1], path, n);
       PlyElement element;
       element.name = std::string(tokens[1]);
@@ -152,9 +163,7 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& path) {
     } else if (keyword == "end_header") {
       if (tokens.size() != 1) fail(path, n, "unexpected text after 'end_header'");
       if (!have_format) fail(path, n, "the header has no 'format' line");
-      if (!header.elements.empty() && header.elements.back().properties.empty())
-        fail(path, header.elements.back().line,
-             "element " + quoted(header.elements.back().name) + " has no properties");
+      drop_empty_element(header, path);
       header.data_offset = lines.position();
       header.data_line = n + 1;
       return header;

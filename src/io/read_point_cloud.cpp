@@ -9,7 +9,11 @@
 #include <string>
 
 #include "io_text.h"
+#include "read_obj.h"
+#include "read_off.h"
+#include "read_pcd.h"
 #include "read_ply.h"
+#include "read_stl.h"
 #include "read_xyz.h"
 
 namespace detexture {
@@ -18,7 +22,12 @@ FileFormat parse_file_format(const std::string& name) {
   if (name == "auto") return FileFormat::Auto;
   if (name == "ply") return FileFormat::Ply;
   if (name == "xyz") return FileFormat::Xyz;
-  throw std::invalid_argument("unknown file format '" + name + "'; expected auto, ply or xyz");
+  if (name == "obj") return FileFormat::Obj;
+  if (name == "off") return FileFormat::Off;
+  if (name == "stl") return FileFormat::Stl;
+  if (name == "pcd") return FileFormat::Pcd;
+  throw std::invalid_argument("unknown file format '" + name +
+                              "'; expected auto, ply, xyz, obj, off, stl or pcd");
 }
 
 FileFormat format_from_extension(const std::string& path) {
@@ -28,7 +37,11 @@ FileFormat format_from_extension(const std::string& path) {
   if (ext == ".ply") return FileFormat::Ply;
   if (ext == ".xyz" || ext == ".xyzn" || ext == ".txt" || ext == ".pts" || ext == ".csv")
     return FileFormat::Xyz;
-  for (const char* other : {".obj", ".off", ".stl", ".pcd", ".las", ".laz", ".e57", ".gltf"})
+  if (ext == ".obj") return FileFormat::Obj;
+  if (ext == ".off") return FileFormat::Off;
+  if (ext == ".stl") return FileFormat::Stl;
+  if (ext == ".pcd") return FileFormat::Pcd;
+  for (const char* other : {".las", ".laz", ".e57", ".gltf", ".glb", ".fbx", ".3ds", ".dae"})
     if (ext == other)
       throw std::runtime_error("'" + path + "': the " + ext.substr(1) +
                                " format is not supported (yet); convert it to .ply, e.g. with "
@@ -36,7 +49,8 @@ FileFormat format_from_extension(const std::string& path) {
   throw std::runtime_error(
       "cannot tell the format of '" + path + "' from its extension" +
       (ext.empty() ? std::string() : " '" + ext + "'") +
-      "; use .ply, .xyz, .xyzn, .txt, .pts or .csv, or give the format explicitly (ply or xyz)");
+      "; use .ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .txt, .pts or .csv, or give the format "
+      "explicitly (ply, obj, off, stl, pcd or xyz)");
 }
 
 namespace {
@@ -70,6 +84,7 @@ class StreamBounds {
                                         " MiB without an 'end_header' line");
       return;
     }
+    if (format_ == FileFormat::Stl || format_ == FileFormat::Pcd) return;  // may be binary
     for (std::size_t i = from; i < bytes.size(); ++i) {
       if (bytes[i] == '\0')
         io_detail::throw_read_error(path_, "byte " + std::to_string(i),
@@ -145,8 +160,27 @@ PointCloud read_point_cloud(const std::string& path, FileFormat format, ReadRepo
   ReadReport local;
   ReadReport& r = report ? *report : local;
   r = ReadReport{};
-  PointCloud cloud = format == FileFormat::Ply ? io_detail::read_ply(bytes, path, r)
-                                               : io_detail::read_xyz(bytes, path, r);
+  PointCloud cloud;
+  switch (format) {
+    case FileFormat::Ply:
+      cloud = io_detail::read_ply(bytes, path, r);
+      break;
+    case FileFormat::Obj:
+      cloud = io_detail::read_obj(bytes, path, r);
+      break;
+    case FileFormat::Off:
+      cloud = io_detail::read_off(bytes, path, r);
+      break;
+    case FileFormat::Stl:
+      cloud = io_detail::read_stl(bytes, path, r);
+      break;
+    case FileFormat::Pcd:
+      cloud = io_detail::read_pcd(bytes, path, r);
+      break;
+    default:
+      cloud = io_detail::read_xyz(bytes, path, r);
+      break;
+  }
   r.zero_length_normals = normalize_normals(cloud.normals);
   return cloud;
 }

@@ -2,13 +2,18 @@
 
 #include <cctype>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 
 #include "detexture/io/output_file.h"
 #include "io_text.h"
 #include "output_buffer.h"
+#include "write_obj.h"
+#include "write_off.h"
+#include "write_pcd.h"
 #include "write_ply.h"
+#include "write_stl.h"
 #include "write_xyz.h"
 
 namespace detexture {
@@ -46,6 +51,17 @@ void check_cloud(const PointCloud& cloud, const std::string& path) {
 
 }  // namespace
 
+void check_write_options(const std::string& path, const WriteOptions& options) {
+  const FileFormat format =
+      options.format == FileFormat::Auto ? format_from_extension(path) : options.format;
+  if (options.compressed && format != FileFormat::Pcd)
+    throw std::invalid_argument("'" + path +
+                                "': compressed output (binary-compressed) is only for PCD files");
+  if (options.encoding == PlyEncoding::BinaryBigEndian && format != FileFormat::Ply &&
+      format != FileFormat::Xyz)
+    throw std::invalid_argument("'" + path + "': big-endian output is only for PLY files");
+}
+
 void write_point_cloud(const std::string& path, const PointCloud& cloud,
                        const WriteOptions& options) {
   const FileFormat format =
@@ -56,11 +72,25 @@ void write_point_cloud(const std::string& path, const PointCloud& cloud,
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw_write_error(path, "it is a directory");
   check_cloud(cloud, path);
+  check_write_options(path, options);
+  const bool ascii = options.encoding == PlyEncoding::Ascii;
 
   OutputFile file(path);
   io_detail::OutputBuffer out(file.get(), path);
   if (format == FileFormat::Ply) {
     io_detail::write_ply(out, cloud, options.encoding, path);
+  } else if (format == FileFormat::Obj) {
+    io_detail::write_obj(out, cloud, path, options.notices);
+  } else if (format == FileFormat::Off) {
+    io_detail::write_off(out, cloud, path, options.notices);
+  } else if (format == FileFormat::Stl) {
+    io_detail::write_stl(out, cloud, ascii, path, options.notices);
+  } else if (format == FileFormat::Pcd) {
+    io_detail::write_pcd(out, cloud,
+                         ascii                ? io_detail::PcdData::Ascii
+                         : options.compressed ? io_detail::PcdData::BinaryCompressed
+                                              : io_detail::PcdData::Binary,
+                         path, options.notices);
   } else {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -596,4 +596,54 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
 
 }  // namespace
 
+// Meshes (issue 13): the faces give the normals and bound the update.
+RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList& faces,
+                                   const RemoveTextureParams& params,
+                                   const PipelineObserver& observer) {
+  if (faces.size() == 0) return remove_texture(std::move(P), std::move(normals), params, observer);
+  for (const std::uint32_t i : faces.indices)
+    if (i >= static_cast<std::uint64_t>(P.rows()))
+      throw std::invalid_argument("a face refers to vertex " + std::to_string(i) +
+                                  ", but there are " + std::to_string(P.rows()));
+  RemoveTextureReport mesh_report;
+  TriangleIndices T = triangulate_faces(faces);
+  bool from_faces = false;
+  std::size_t reoriented = 0;
+  {
+    StageClock clock(observer, mesh_report, "face normals");
+    reoriented = orient_triangles(P, T);
+    if (params.use_faces && normals.rows() == 0) {
+      normals = face_normals(P, T, params.face_normals);
+      from_faces = true;
+    }
+  }
+  RemoveTextureResult result = remove_texture(std::move(P), std::move(normals), params, observer);
+  RemoveTextureReport& rep = result.report;
+  rep.mesh = true;
+  rep.normals_from_faces = from_faces;
+  rep.triangles = static_cast<std::size_t>(T.rows());
+  rep.triangles_reoriented = reoriented;
+  {
+    StageClock clock(observer, rep, params.use_faces ? "repair folds" : "measure folds");
+    RepairFoldsParams repair = params.folds;
+    repair.enabled = params.use_faces;
+    result.positions =
+        repair_folds(result.input_positions, result.positions, T, repair, &rep.folds);
+    if (!params.use_faces) return result;  // the paper: only measured
+    std::size_t isolated = 0;
+    const Normals out = face_normals(result.positions, T, params.face_normals, &isolated);
+    for (Eigen::Index i = 0; i < out.rows(); ++i) {
+      if (out.row(i).squaredNorm() > 0.0) result.normals.row(i) = out.row(i);
+      result.texture_height(i) =
+          (result.input_positions.row(i) - result.positions.row(i)).dot(result.normals.row(i));
+    }
+  }
+  rep.timings.insert(rep.timings.begin(), mesh_report.timings.begin(), mesh_report.timings.end());
+  double moved = 0.0;
+  for (Eigen::Index i = 0; i < result.positions.rows(); ++i)
+    moved += (result.positions.row(i) - result.input_positions.row(i)).norm();
+  rep.mean_displacement = moved / std::max<Eigen::Index>(1, result.positions.rows());
+  return result;
+}
+
 }  // namespace detexture

@@ -15,11 +15,13 @@
 
 #include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/geometry/estimate_neighborhoods_memory.h"
+#include "detexture/geometry/face_normals.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/estimate_texture_scale.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
+#include "detexture/pipeline/repair_folds.h"
 #include "detexture/pipeline/update_positions.h"
 #include "detexture/threads.h"
 #include "detexture/types.h"
@@ -120,6 +122,13 @@ struct RemoveTextureParams {
   /// Applied for the duration of the call only (ScopedThreads in threads.h);
   /// the result is bitwise the same for any value.
   int threads = 0;
+  /// Meshes (the remove_texture overload with faces): true takes the input
+  /// normals from the faces (face_normals.h; no PCA) when the input has none,
+  /// and repairs the folds the update makes (repair_folds.h); false treats
+  /// the vertices as an unconnected cloud, as the paper does.
+  bool use_faces = true;
+  FaceNormalsParams face_normals;  ///< angle or area weights
+  RepairFoldsParams folds;         ///< fold angle (enabled is ignored: use_faces decides)
 };
 
 /// Check every parameter; throws std::invalid_argument naming the bad one.
@@ -183,6 +192,12 @@ struct RemoveTextureReport {
   /// the distinct positions and each copy got the result of the first.
   std::size_t duplicates_merged = 0;
   double estimated_bytes = 0.0;  ///< the memory guard's estimate of the peak (0 if not run)
+  /// Meshes only (the overload with faces; `mesh` says whether it ran):
+  bool mesh = false;
+  bool normals_from_faces = false;       ///< the input normals came from the faces
+  std::size_t triangles = 0;             ///< after splitting polygons
+  std::size_t triangles_reoriented = 0;  ///< turned by orient_triangles, for the normals only
+  RepairFoldsReport folds;  ///< folds and flips of the input, the update and the output
   std::vector<StageTiming> timings;
 };
 
@@ -208,6 +223,19 @@ struct RemoveTextureResult {
 /// bad parameters or mismatched sizes, and ResourceLimitError when the
 /// neighborhoods would exceed params.memory_limit.
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
+                                   const PipelineObserver& observer = {});
+
+/// The same on a mesh: P are the vertices of the polygons `faces` (as
+/// read_point_cloud keeps them, face_list.h). With params.use_faces, input
+/// normals, when there are none, are the angle-weighted normals of the
+/// consistently oriented faces (face_normals.h), and the positions are
+/// repaired so that the update folds no edge and flips no triangle
+/// (repair_folds.h); the output normals are then those of the output's
+/// faces. report.folds counts folds and flips (with use_faces false too,
+/// where the cloud version above runs and its folds are only measured). Throws
+/// std::invalid_argument as above, or when a face refers to a missing vertex.
+RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList& faces,
+                                   const RemoveTextureParams& params,
                                    const PipelineObserver& observer = {});
 
 }  // namespace detexture
