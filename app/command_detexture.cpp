@@ -25,6 +25,7 @@
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "detexture/pipeline/remove_texture.h"
+#include "tiling_options.h"
 
 namespace detexture::app {
 namespace {
@@ -177,7 +178,7 @@ int print_scale_report(const std::string& input, FileFormat format,
 
 // The --stats file: flat JSON, one key per figure, stage times under "seconds".
 void write_stats(const std::string& path, std::size_t points, const RemoveTextureReport& r,
-                 double read_s, double write_s, double peak_mib) {
+                 double read_s, double write_s, double peak_mib, const std::string& tiles = "") {
   std::string json;
   auto add = [&json](const char* format, auto... values) {
     char line[512];
@@ -208,6 +209,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.ransac_mean_iterations);
   add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
       r.update_iterations);
+  json += tiles;
   add("  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib, read_s);
   for (const auto& t : r.timings) add("    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
   add("    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
@@ -475,6 +477,8 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0, 4096));
   app.add_flag("-q,--quiet", quiet, "No progress or summary on stderr");
+  TilingOptions tiling;
+  add_tiling_options(app, tiling);
   std::string stats_path;
   app.add_option("--stats", stats_path,
                  "Write the run's figures (counts, resolved parameters, seconds per stage, peak "
@@ -488,6 +492,7 @@ int run_detexture(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
 
+  tiling.memory_limit_given = app.count("--memory-limit") > 0;
   ProgressPrinter printer(quiet);
   try {
     params.gaussian.use_subneighborhood = !no_subneighborhood;
@@ -551,8 +556,10 @@ int run_detexture(int argc, char** argv) {
     // the pipeline can free them early: memory per point is a stated target.
     Normals normals = cloud.has_normals() ? std::move(cloud.normals) : Normals();
     cloud.normals = Normals();
+    std::string tiles;
     RemoveTextureResult result =
-        remove_texture(std::move(cloud.positions), std::move(normals), params, printer.observer());
+        run_maybe_tiled(std::move(cloud.positions), std::move(normals), params, tiling,
+                        printer.observer(), quiet, &tiles);
     cloud.positions = std::move(result.input_positions);
     if (result.report.duplicates_merged > 0)
       printer.note("detexture: note: " + std::to_string(result.report.duplicates_merged) +
@@ -593,7 +600,7 @@ int run_detexture(int argc, char** argv) {
     getrusage(RUSAGE_SELF, &usage);
     const double peak_mib = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
     if (!stats_path.empty()) try {
-        write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib);
+        write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib, tiles);
       } catch (const std::runtime_error& e) {
         throw OutputError(e.what());
       }
