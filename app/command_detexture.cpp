@@ -25,6 +25,7 @@
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "detexture/pipeline/remove_texture.h"
+#include "detexture/tiling/remove_texture_out_of_core.h"
 #include "tiling_options.h"
 
 namespace detexture::app {
@@ -220,6 +221,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
 // the shell's codes for death by those signals.
 void on_interrupt(int signal_number) {
   remove_temporary_outputs();
+  remove_tile_bins();
   _exit(128 + signal_number);
 }
 
@@ -532,6 +534,44 @@ int run_detexture(int argc, char** argv) {
       }
     }
     install_signal_cleanup();
+    if (tiling.out_of_core()) {
+      if (!texture_layer.empty() || texture_fields)
+        throw std::invalid_argument(
+            "--texture-fields and --texture-layer are not available out of core (--temp-dir)");
+      if (encoding != "binary" || (out_format != FileFormat::Auto && out_format != FileFormat::Ply))
+        throw std::invalid_argument("out-of-core runs write binary PLY");
+      if (out_format == FileFormat::Auto && format_from_extension(output) != FileFormat::Ply)
+        throw std::invalid_argument("out-of-core runs write binary PLY: give OUTPUT a .ply name");
+      const auto start = std::chrono::steady_clock::now();
+      OutOfCoreReport ooc;
+      try {
+        ooc = run_out_of_core(input, output, params, tiling, quiet);
+      } catch (const ResourceLimitError&) {
+        throw;
+      } catch (const std::runtime_error& e) {
+        throw InputError(e.what());
+      }
+      const double total =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      struct rusage usage {};
+      getrusage(RUSAGE_SELF, &usage);
+      RemoveTextureReport& r = ooc.report;
+      r.timings.insert(r.timings.begin(), {{"scan", ooc.scan_seconds}, {"bin", ooc.bin_seconds}});
+      if (!stats_path.empty()) try {
+          write_stats(stats_path, ooc.points, r, 0.0, 0.0, usage.ru_maxrss / 1024.0,
+                      tiles_json(ooc.tiles));
+        } catch (const std::runtime_error& e) {
+          throw OutputError(e.what());
+        }
+      if (!quiet)
+        std::fprintf(stderr,
+                     "wrote %s\nsummary: %llu points out of core in %zu tiles, r = %g; texture "
+                     "points %zu; total %.2f s; peak memory %.0f MiB\n",
+                     output.c_str(), static_cast<unsigned long long>(ooc.points),
+                     ooc.tiles.tiles_run, r.radius, r.texture_points, total,
+                     usage.ru_maxrss / 1024.0);
+      return kExitOk;
+    }
 
     const auto t0 = std::chrono::steady_clock::now();
     PointCloud cloud;
@@ -557,9 +597,8 @@ int run_detexture(int argc, char** argv) {
     Normals normals = cloud.has_normals() ? std::move(cloud.normals) : Normals();
     cloud.normals = Normals();
     std::string tiles;
-    RemoveTextureResult result =
-        run_maybe_tiled(std::move(cloud.positions), std::move(normals), params, tiling,
-                        printer.observer(), quiet, &tiles);
+    RemoveTextureResult result = run_maybe_tiled(std::move(cloud.positions), std::move(normals),
+                                                 params, tiling, printer.observer(), quiet, &tiles);
     cloud.positions = std::move(result.input_positions);
     if (result.report.duplicates_merged > 0)
       printer.note("detexture: note: " + std::to_string(result.report.duplicates_merged) +

@@ -137,4 +137,30 @@ RemoveTextureResult run_maybe_tiled(Positions P, Normals normals, const RemoveTe
   return r;
 }
 
+OutOfCoreReport run_out_of_core(const std::string& input, const std::string& output,
+                                const RemoveTextureParams& params, const TilingOptions& options,
+                                bool quiet) {
+  if (options.mpi)
+    throw std::invalid_argument(
+        "--mpi is not available: this detexture was built without MPI (install "
+        "libopenmpi-dev and rebuild)");
+  OutOfCoreParams ooc;
+  ooc.temp_dir = options.temp_dir.empty() ? "." : options.temp_dir;
+  TiledRunObserver observer = tile_printer(quiet);
+  if (!quiet)
+    observer.tile_begin = [](std::size_t k, std::size_t count, const Tile&, std::size_t) {
+      if (k == 0) std::fprintf(stderr, "  scanned and binned the input; %zu tiles to run\n", count);
+    };
+  const OutOfCoreReport r =
+      remove_texture_out_of_core(input, output, params, options.params, ooc, observer);
+  if (!quiet)
+    std::fprintf(stderr,
+                 "tiles: %d x %d x %d grid of size %g (%s), halo %g; scan %.1f s, bin %.1f s, "
+                 "tiles %.1f s\n",
+                 r.tiles.grid(0), r.tiles.grid(1), r.tiles.grid(2), r.tiles.tile_size,
+                 r.tiles.tile_size_reason.c_str(), r.tiles.halo, r.scan_seconds, r.bin_seconds,
+                 r.tiles_seconds);
+  return r;
+}
+
 }  // namespace detexture::app

@@ -7,6 +7,7 @@
 
 #include "detexture/io/point_cloud.h"
 #include "detexture/pipeline/remove_texture.h"
+#include "detexture/tiling/remove_texture_out_of_core.h"
 #include "detexture/tiling/remove_texture_tiled.h"
 
 namespace detexture::app {
@@ -34,6 +35,12 @@ void add_tiling_options(CLI::App& app, TilingOptions& options);
 RemoveTextureResult run_maybe_tiled(Positions P, Normals normals, const RemoveTextureParams& params,
                                     const TilingOptions& options, const PipelineObserver& observer,
                                     bool quiet, std::string* tiles_json);
+
+/// The out-of-core run (--temp-dir; --mpi when built with MPI), printing
+/// per-tile lines unless quiet.
+OutOfCoreReport run_out_of_core(const std::string& input, const std::string& output,
+                                const RemoveTextureParams& params, const TilingOptions& options,
+                                bool quiet);
 
 /// The "tiling" and "tiles" entries of --stats, each line ending in ",\n".
 std::string tiles_json(const TiledRunReport& report);

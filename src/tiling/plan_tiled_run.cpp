@@ -50,7 +50,8 @@ TiledRunPlan plan_tiled_run(const Positions& sample, const Normals& sample_norma
   run.mean_neighbors = std::max(1.0, e.mean_neighbors * weight);
   if (params.max_neighbors > 0)
     run.mean_neighbors = std::min(run.mean_neighbors, double(params.max_neighbors));
-  run.bytes_per_point = kBytesPerPoint + 4.0 * 1.05 * run.mean_neighbors;
+  run.bytes_per_point =
+      kBytesPerPoint + 4.0 * 1.05 * run.mean_neighbors + tiling.extra_bytes_per_point;
 
   const double halo = tiling.halo.resolve(L.diagonal, r);
   if (!(halo >= 0.0) || !std::isfinite(halo))

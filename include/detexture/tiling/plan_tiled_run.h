@@ -26,6 +26,9 @@ struct TilingParams {
   /// Bytes the caller holds for the whole cloud meanwhile, taken off the
   /// budget (the in-memory driver's copy of the cloud and its results).
   double reserved_bytes = 0.0;
+  /// Bytes the caller holds per tile point besides remove_texture's own
+  /// (the out-of-core driver's records and results).
+  double extra_bytes_per_point = 0.0;
 };
 
 struct TiledRunPlan {

@@ -1,0 +1,135 @@
+// Tiled, out-of-core and streaming runs of the command line: the out-of-core
+// output is the in-memory tiled output byte for byte, temporary files never
+// outlive the run, and a failing tile leaves nothing at the output path.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace detexture {
+namespace {
+
+class CliTiling : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("detexture_cli_tiling_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "tmp");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  int run(const std::string& args) {
+    const std::string err = path("stderr.txt");
+    const std::string cmd =
+        std::string(DETEXTURE_CLI_PATH) + " " + args + " > " + path("stdout.txt") + " 2> " + err;
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    stderr_ = ss.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string bytes(const std::string& name) const {
+    std::ifstream in(path(name), std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  bool temp_empty() const { return fs::is_empty(dir_ / "tmp"); }
+  // 8k points of a bumpy sphere, made once per test.
+  void make_cloud(const std::string& extra = "") {
+    ASSERT_EQ(run("synth --shape sphere --texture bumps -n 8000 --ground-truth-points 100 -o " +
+                  path("in.ply") + " " + extra),
+              0)
+        << stderr_;
+  }
+  fs::path dir_;
+  std::string stderr_;
+};
+
+TEST_F(CliTiling, SynthInBlocksWritesTheSameBytes) {
+  make_cloud();
+  ASSERT_EQ(run("synth --shape sphere --texture bumps -n 8000 --ground-truth-points 100 -o " +
+                path("blocks.ply") + " --block 3001"),
+            0)
+      << stderr_;
+  EXPECT_EQ(bytes("in.ply"), bytes("blocks.ply"));
+  EXPECT_EQ(bytes("in.gt.ply"), bytes("blocks.gt.ply"));
+}
+
+TEST_F(CliTiling, OutOfCoreIsTheInMemoryTiledRunByteForByte) {
+  make_cloud();
+  const std::string common = " -q -r 0.1 --tile 0.6 --halo 2r";
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("mem.ply") + common), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("ooc.ply") + common + " --temp-dir " + path("tmp") +
+                " --stats " + path("stats.json")),
+            0)
+      << stderr_;
+  const std::string mem = bytes("mem.ply"), ooc = bytes("ooc.ply");
+  EXPECT_FALSE(mem.empty());
+  EXPECT_TRUE(mem == ooc);
+  EXPECT_TRUE(temp_empty());
+  // The per-tile log: 2 x 2 x 2 tiles of 0.6 over the sphere of diameter 1.
+  const std::string stats = bytes("stats.json");
+  EXPECT_NE(stats.find("\"grid\": [2, 2, 2]"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"tiles_run\": 8"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"core_points\""), std::string::npos);
+}
+
+TEST_F(CliTiling, OutOfCoreWithoutNormalsAndFloats) {
+  make_cloud("--float --no-normals");
+  const std::string common = " -q -f -r 0.1 --tile 0.6 --halo 2r";
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("mem.ply") + common), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("ooc.ply") + common + " --temp-dir " + path("tmp")),
+            0)
+      << stderr_;
+  EXPECT_TRUE(bytes("mem.ply") == bytes("ooc.ply"));
+  EXPECT_TRUE(temp_empty());
+}
+
+// A tile refused by the memory guard fails the run: exit 5, a message naming
+// the tile, no output and no temporary files.
+TEST_F(CliTiling, AFailedTileLeavesNothingBehind) {
+  make_cloud();
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") +
+                " -q -r 0.1 --tile 0.6 --memory-limit 100k --temp-dir " + path("tmp")),
+            5)
+      << stderr_;
+  EXPECT_NE(stderr_.find("tile "), std::string::npos) << stderr_;
+  EXPECT_FALSE(fs::exists(path("out.ply")));
+  EXPECT_TRUE(temp_empty());
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".out.ply"), std::string::npos) << entry.path();
+}
+
+// r from the texture scale: the out-of-core run estimates it on its sample,
+// which is the whole cloud up to 1M points (in spatial order, as in memory).
+TEST_F(CliTiling, OutOfCoreEstimatesRFromAWholeSample) {
+  make_cloud();
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("mem.ply") + " -q --tile 0.6"), 0) << stderr_;
+  ASSERT_EQ(
+      run(path("in.ply") + " -o " + path("ooc.ply") + " -q --tile 0.6 --temp-dir " + path("tmp")),
+      0)
+      << stderr_;
+  EXPECT_TRUE(bytes("mem.ply") == bytes("ooc.ply"));
+}
+
+TEST_F(CliTiling, OutOfCoreRefusesWhatItCannotDo) {
+  make_cloud();
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.xyz") + " -q -r 0.1 --temp-dir " + path("tmp")),
+            2);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") +
+                " -q -r 0.1 --texture-fields --temp-dir " + path("tmp")),
+            2);
+  EXPECT_TRUE(temp_empty());
+}
+
+}  // namespace
+}  // namespace detexture
