@@ -551,6 +551,7 @@ int run_detexture(int argc, char** argv) {
       } catch (const std::runtime_error& e) {
         throw InputError(e.what());
       }
+      if (!ooc.root) return kExitOk;
       const double total =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       struct rusage usage {};

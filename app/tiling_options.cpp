@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "detexture/geometry/spatial_order.h"
+#include "detexture/tiling/remove_texture_mpi.h"
 
 namespace detexture::app {
 
@@ -140,12 +141,39 @@ RemoveTextureResult run_maybe_tiled(Positions P, Normals normals, const RemoveTe
 OutOfCoreReport run_out_of_core(const std::string& input, const std::string& output,
                                 const RemoveTextureParams& params, const TilingOptions& options,
                                 bool quiet) {
+#ifndef DETEXTURE_HAVE_MPI
   if (options.mpi)
     throw std::invalid_argument(
         "--mpi is not available: this detexture was built without MPI (install "
         "libopenmpi-dev and rebuild)");
+#endif
   OutOfCoreParams ooc;
   ooc.temp_dir = options.temp_dir.empty() ? "." : options.temp_dir;
+#ifdef DETEXTURE_HAVE_MPI
+  if (options.mpi) {
+    static MpiSession session;  // finalized at exit, after the outputs are written
+    const bool root = session.rank() == 0;
+    TiledRunObserver observer = tile_printer(quiet || !root);
+    if (!quiet && root)
+      observer.tile_begin = [&session](std::size_t k, std::size_t count, const Tile&, std::size_t) {
+        if (k == 0)
+          std::fprintf(stderr,
+                       "  scanned and binned the input; rank 0 runs %zu tiles of %d ranks\n", count,
+                       session.size());
+      };
+    OutOfCoreReport r =
+        remove_texture_mpi(session, input, output, params, options.params, ooc, observer);
+    r.root = root;
+    if (!quiet && root)
+      std::fprintf(stderr,
+                   "tiles: %d x %d x %d grid of size %g (%s), halo %g; scan %.1f s, bin %.1f s, "
+                   "tiles %.1f s\n",
+                   r.tiles.grid(0), r.tiles.grid(1), r.tiles.grid(2), r.tiles.tile_size,
+                   r.tiles.tile_size_reason.c_str(), r.tiles.halo, r.scan_seconds, r.bin_seconds,
+                   r.tiles_seconds);
+    return r;
+  }
+#endif
   TiledRunObserver observer = tile_printer(quiet);
   if (!quiet)
     observer.tile_begin = [](std::size_t k, std::size_t count, const Tile&, std::size_t) {

@@ -5,7 +5,7 @@
 # installed.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libnanoflann-dev libcli11-dev
-          libgtest-dev googletest libpng-dev)
+          libgtest-dev googletest libpng-dev libopenmpi-dev openmpi-bin)
 [ $# -gt 0 ] && packages=("$@")
 missing=()
 for p in "${packages[@]}"; do

@@ -63,7 +63,7 @@ TileBins::TileBins(const std::string& parent, std::size_t tiles, bool owner)
   } else {
     folder_ = parent;
   }
-  if (folder_.size() + 64 < sizeof g_folder) {
+  if (owner && folder_.size() + 64 < sizeof g_folder) {
     std::memcpy(g_folder, folder_.c_str(), folder_.size() + 1);
     g_tiles = tiles;
     g_owner = owner;
@@ -71,7 +71,9 @@ TileBins::TileBins(const std::string& parent, std::size_t tiles, bool owner)
 }
 
 TileBins::~TileBins() {
-  remove_all(folder_.c_str(), tiles_, owner_);
+  // Only the owner removes: another rank's TileBins ends while rank 0 still
+  // reads the result files.
+  if (owner_) remove_all(folder_.c_str(), tiles_, owner_);
   g_folder[0] = '\0';
 }
 

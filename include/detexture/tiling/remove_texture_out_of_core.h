@@ -56,6 +56,7 @@ struct OutOfCoreReport {
   RemoveTextureReport report;  ///< merged over the tiles (merge_tile_report)
   TiledRunReport tiles;
   double scan_seconds = 0.0, bin_seconds = 0.0, tiles_seconds = 0.0;
+  bool root = true;  ///< false on MPI ranks other than 0: they print and write nothing
 };
 
 /// The whole out-of-core run from `input` to `output` (written through an
