@@ -121,6 +121,25 @@ TEST_F(CliTiling, OutOfCoreEstimatesRFromAWholeSample) {
   EXPECT_TRUE(bytes("mem.ply") == bytes("ooc.ply"));
 }
 
+// --memory-limit alone: the whole cloud fits 8 MiB (8k points at ~340 B per
+// point with r = 0.05), so the run is the plain one; it does not fit 3 MiB,
+// so the run goes in tiles, each within the budget.
+TEST_F(CliTiling, MemoryLimitChoosesTiles) {
+  make_cloud();
+  const std::string common = " -q -f -r 0.05 --halo 2r --stats " + path("stats.json");
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("plain.ply") + common + " --memory-limit 8M"), 0)
+      << stderr_;
+  EXPECT_EQ(bytes("stats.json").find("\"tiling\""), std::string::npos);
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("tiled.ply") + common + " --memory-limit 3M"), 0)
+      << stderr_;
+  const std::string stats = bytes("stats.json");
+  EXPECT_NE(stats.find("\"tiling\""), std::string::npos) << stats;
+  EXPECT_NE(stats.find("largest fitting"), std::string::npos) << stats;
+  // A halo holding more than the budget is refused up front (exit 5).
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("no.ply") + " -q -r 0.1 --memory-limit 4M"), 5);
+  EXPECT_NE(stderr_.find("no tile size fits"), std::string::npos) << stderr_;
+}
+
 TEST_F(CliTiling, OutOfCoreRefusesWhatItCannotDo) {
   make_cloud();
   EXPECT_EQ(run(path("in.ply") + " -o " + path("out.xyz") + " -q -r 0.1 --temp-dir " + path("tmp")),
