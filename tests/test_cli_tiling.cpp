@@ -2,12 +2,17 @@
 // output is the in-memory tiled output byte for byte, temporary files never
 // outlive the run, and a failing tile leaves nothing at the output path.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -138,6 +143,54 @@ TEST_F(CliTiling, MemoryLimitChoosesTiles) {
   // A halo holding more than the budget is refused up front (exit 5).
   EXPECT_EQ(run(path("in.ply") + " -o " + path("no.ply") + " -q -r 0.1 --memory-limit 4M"), 5);
   EXPECT_NE(stderr_.find("no tile size fits"), std::string::npos) << stderr_;
+}
+
+// SIGINT, SIGTERM and SIGHUP during an out-of-core run remove the tile bins
+// and the hidden output, and exit 128 + the signal.
+TEST_F(CliTiling, SignalsRemoveTheTileBins) {
+  ASSERT_EQ(run("synth --shape sphere --texture bumps -n 60000 --ground-truth-points 100 -o " +
+                path("in.ply")),
+            0);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    const std::string out = path("out.ply"), in = path("in.ply"), tmp = path("tmp");
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      std::freopen("/dev/null", "w", stderr);
+      execl(DETEXTURE_CLI_PATH, DETEXTURE_CLI_PATH, in.c_str(), "-o", out.c_str(), "-q", "-r",
+            "0.05", "--tile", "0.3", "--temp-dir", tmp.c_str(), "--threads", "1",
+            static_cast<char*>(nullptr));
+      _exit(99);
+    }
+    bool sent = false;
+    int status = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120)) {
+      if (waitpid(pid, &status, WNOHANG) == pid) break;
+      if (!sent && !temp_empty()) {
+        bool bins = false;
+        for (const auto& d : fs::directory_iterator(dir_ / "tmp"))
+          bins = bins || !fs::is_empty(d.path());
+        if (bins) {
+          kill(pid, sig);
+          sent = true;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    if (!sent) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      FAIL() << "the tile bins never showed";
+    }
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    EXPECT_TRUE(temp_empty());
+    EXPECT_FALSE(fs::exists(out));
+    for (const auto& entry : fs::directory_iterator(dir_))
+      EXPECT_EQ(entry.path().filename().string().find(".out.ply"), std::string::npos);
+  }
 }
 
 TEST_F(CliTiling, OutOfCoreRefusesWhatItCannotDo) {
