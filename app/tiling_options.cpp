@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <limits>
 
 #include "detexture/geometry/spatial_order.h"
 #include "detexture/tiling/remove_texture_mpi.h"
@@ -107,20 +108,30 @@ RemoveTextureResult run_maybe_tiled(Positions P, Normals normals, const RemoveTe
   if (!options.in_memory_tiled())
     return remove_texture(std::move(P), std::move(normals), params, observer);
   if (!options.tile_given) {
-    // --memory-limit alone: tiles only when the whole cloud does not fit.
+    // --memory-limit alone: tiles only when the whole cloud does not fit and
+    // tiles do; otherwise the plain run, whose memory guard refuses with its
+    // own message when the cloud does not fit.
+    if (params.memory_limit == std::numeric_limits<std::uint64_t>::max())
+      return remove_texture(std::move(P), std::move(normals), params, observer);
     const std::size_t n = static_cast<std::size_t>(P.rows());
     if (n == 0) throw std::invalid_argument("the point cloud is empty");
     TilingParams t = options.params;
     t.reserved_bytes = static_cast<double>(n) * (5 * 24 + 17);
     TiledRunPlan plan;
     const Box bounds = bounding_box(P);
-    if (params.radius.unit == Length::Unit::Texture) {
-      const std::vector<std::uint32_t> order = spatial_order(P);
-      plan = plan_tiled_run(permute_rows(P, order),
-                            normals.rows() ? permute_rows(normals, order) : Normals(), 1.0, bounds,
-                            n, params, t);
-    } else {
-      plan = plan_tiled_run(P, Normals(), 1.0, bounds, n, params, t);
+    try {
+      if (params.radius.unit == Length::Unit::Texture) {
+        const std::vector<std::uint32_t> order = spatial_order(P);
+        plan = plan_tiled_run(permute_rows(P, order),
+                              normals.rows() ? permute_rows(normals, order) : Normals(), 1.0,
+                              bounds, n, params, t);
+      } else {
+        plan = plan_tiled_run(P, Normals(), 1.0, bounds, n, params, t);
+      }
+    } catch (const ResourceLimitError&) {
+      return remove_texture(std::move(P), std::move(normals), params, observer);
+    } catch (const std::invalid_argument&) {
+      return remove_texture(std::move(P), std::move(normals), params, observer);
     }
     if (plan.plan.tiles.size() == 1)
       return remove_texture(std::move(P), std::move(normals), params, observer);

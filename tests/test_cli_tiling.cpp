@@ -140,8 +140,14 @@ TEST_F(CliTiling, MemoryLimitChoosesTiles) {
   const std::string stats = bytes("stats.json");
   EXPECT_NE(stats.find("\"tiling\""), std::string::npos) << stats;
   EXPECT_NE(stats.find("largest fitting"), std::string::npos) << stats;
-  // A halo holding more than the budget is refused up front (exit 5).
+  // A halo holding more than the budget: no tiles fit, and the plain run's
+  // memory guard refuses (exit 5); with --tile auto the tiling says so.
   EXPECT_EQ(run(path("in.ply") + " -o " + path("no.ply") + " -q -r 0.1 --memory-limit 4M"), 5);
+  EXPECT_NE(stderr_.find("the neighborhoods would need"), std::string::npos) << stderr_;
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("no.ply") +
+                " -q -r 0.1 --memory-limit 4M "
+                "--tile auto"),
+            5);
   EXPECT_NE(stderr_.find("no tile size fits"), std::string::npos) << stderr_;
 }
 

@@ -136,11 +136,14 @@ double choose_tile_size(const PointHistogram& h, double halo, double max_points)
     return c * h.weight;
   };
   double worst = 0.0;
-  for (double size = longest * 1.0000001; size >= halo && size >= edge; size /= 1.25) {
+  // From one tile holding everything down, while a tile is no smaller than
+  // its halo and a histogram cell.
+  for (double size = longest * 1.0000001;; size /= 1.25) {
     const TilePlan plan = plan_tiles(h.bounds, size, halo);
     worst = 0.0;
     for (const Tile& t : plan.tiles) worst = std::max(worst, box_count(t.extended));
     if (worst <= max_points) return size;
+    if (size / 1.25 < halo || size / 1.25 < edge) break;
   }
   throw ResourceLimitError("no tile size fits the memory budget: tiles as small as their halo (" +
                            number_text(halo) + ") would still hold about " +
