@@ -29,6 +29,8 @@
 #include "detexture/pipeline/remove_texture.h"
 #include "detexture/pipeline/texture_fields.h"
 #include "detexture/threads.h"
+#include "detexture/tiling/remove_texture_out_of_core.h"
+#include "tiling_options.h"
 
 namespace detexture::app {
 namespace {
@@ -168,7 +170,7 @@ int print_scale_report(const std::string& input, FileFormat format,
 
 // The --stats file: flat JSON, one key per figure, stage times under "seconds".
 void write_stats(const std::string& path, std::size_t points, const RemoveTextureReport& r,
-                 double read_s, double write_s, double peak_mib) {
+                 double read_s, double write_s, double peak_mib, const std::string& tiles = "") {
   std::string json;
   auto add = [&json](const char* format, auto... values) {
     char line[512];
@@ -213,6 +215,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
           name, m.folded, m.flipped, m.p99_dihedral_deg, std::string(name) == "output" ? "" : ",");
     add("  },\n");
   }
+  json += tiles;
   add("  \"peak_memory_mib\": %.3f,\n  \"seconds\": {\n    \"read\": %.6f,\n", peak_mib, read_s);
   for (const auto& t : r.timings) add("    \"%s\": %.6f,\n", t.stage.c_str(), t.seconds);
   add("    \"write\": %.6f,\n    \"total\": %.6f\n  }\n}\n", write_s, total);
@@ -223,6 +226,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
 // the shell's codes for death by those signals.
 void on_interrupt(int signal_number) {
   remove_temporary_outputs();
+  remove_tile_bins();
   _exit(128 + signal_number);
 }
 
@@ -499,6 +503,8 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0, 4096));
   app.add_flag("-q,--quiet", quiet, "No progress or summary on stderr");
+  TilingOptions tiling;
+  add_tiling_options(app, tiling);
   std::string stats_path;
   app.add_option("--stats", stats_path,
                  "Write the run's figures (counts, resolved parameters, seconds per stage, peak "
@@ -512,6 +518,7 @@ int run_detexture(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitUsage;
   }
 
+  tiling.memory_limit_given = app.count("--memory-limit") > 0;
   ProgressPrinter printer(quiet);
   try {
     params.gaussian.use_subneighborhood = !no_subneighborhood;
@@ -559,6 +566,45 @@ int run_detexture(int argc, char** argv) {
       }
     }
     install_signal_cleanup();
+    if (tiling.out_of_core()) {
+      if (!texture_layer.empty() || texture_fields)
+        throw std::invalid_argument(
+            "--texture-fields and --texture-layer are not available out of core (--temp-dir)");
+      if (encoding != "binary" || (out_format != FileFormat::Auto && out_format != FileFormat::Ply))
+        throw std::invalid_argument("out-of-core runs write binary PLY");
+      if (out_format == FileFormat::Auto && format_from_extension(output) != FileFormat::Ply)
+        throw std::invalid_argument("out-of-core runs write binary PLY: give OUTPUT a .ply name");
+      const auto start = std::chrono::steady_clock::now();
+      OutOfCoreReport ooc;
+      try {
+        ooc = run_out_of_core(input, output, params, tiling, quiet);
+      } catch (const ResourceLimitError&) {
+        throw;
+      } catch (const std::runtime_error& e) {
+        throw InputError(e.what());
+      }
+      if (!ooc.root) return kExitOk;
+      const double total =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      struct rusage usage {};
+      getrusage(RUSAGE_SELF, &usage);
+      RemoveTextureReport& r = ooc.report;
+      r.timings.insert(r.timings.begin(), {{"scan", ooc.scan_seconds}, {"bin", ooc.bin_seconds}});
+      if (!stats_path.empty()) try {
+          write_stats(stats_path, ooc.points, r, 0.0, 0.0, usage.ru_maxrss / 1024.0,
+                      tiles_json(ooc.tiles));
+        } catch (const std::runtime_error& e) {
+          throw OutputError(e.what());
+        }
+      if (!quiet)
+        std::fprintf(stderr,
+                     "wrote %s\nsummary: %llu points out of core in %zu tiles, r = %g; texture "
+                     "points %zu; total %.2f s; peak memory %.0f MiB\n",
+                     output.c_str(), static_cast<unsigned long long>(ooc.points),
+                     ooc.tiles.tiles_run, r.radius, r.texture_points, total,
+                     usage.ru_maxrss / 1024.0);
+      return kExitOk;
+    }
 
     const auto t0 = std::chrono::steady_clock::now();
     PointCloud cloud;
@@ -596,8 +642,16 @@ int run_detexture(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
       throw InputError("'" + input + "': " + e.what());
     }
-    RemoveTextureResult result = remove_texture(std::move(cloud.positions), std::move(normals),
-                                                faces, params, printer.observer());
+    std::string tiles;
+    if (faces.size() > 0 && tiling.tile_given)
+      throw std::invalid_argument(
+          "--tile works on point clouds, and '" + input + "' has faces; leave out --tile, or "
+          "filter the vertices as a cloud with --mesh cloud and drop the faces first");
+    RemoveTextureResult result =
+        faces.size() > 0 ? remove_texture(std::move(cloud.positions), std::move(normals), faces,
+                                          params, printer.observer())
+                         : run_maybe_tiled(std::move(cloud.positions), std::move(normals), params,
+                                           tiling, printer.observer(), quiet, &tiles);
     cloud.positions = std::move(result.input_positions);
     if (result.report.duplicates_merged > 0)
       printer.note("detexture: note: " + std::to_string(result.report.duplicates_merged) +
@@ -623,7 +677,7 @@ int run_detexture(int argc, char** argv) {
     getrusage(RUSAGE_SELF, &usage);
     const double peak_mib = usage.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
     if (!stats_path.empty()) try {
-        write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib);
+        write_stats(stats_path, cloud.size(), result.report, read_s, write_s, peak_mib, tiles);
       } catch (const std::runtime_error& e) {
         throw OutputError(e.what());
       }

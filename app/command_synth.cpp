@@ -12,6 +12,8 @@
 
 #include "commands.h"
 #include "detexture/eval/synthesize_shape.h"
+#include "detexture/io/output_file.h"
+#include "detexture/io/ply_stream.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 
@@ -45,6 +47,45 @@ std::string describe(const SynthParams& p, const std::string& base_mesh) {
     << " seed=" << p.seed;
   return s.str();
 }
+
+// A binary little-endian PLY written block by block: the same bytes as
+// write_point_cloud would write for the whole cloud.
+class BlockWriter {
+ public:
+  BlockWriter(const std::string& path, const PlyVertexLayout& layout)
+      : file_(path), layout_(layout), path_(path) {
+    const std::string header = ply_header_text(layout);
+    put(header.data(), header.size());
+  }
+  void write(const Positions& P, const Normals& N, const std::vector<double>* heights,
+             const std::vector<std::uint8_t>* labels) {
+    const std::size_t size = layout_.record_size;
+    buffer_.assign(size * static_cast<std::size_t>(P.rows()), 0);
+    const bool normals = layout_.has_normals();
+    for (Eigen::Index i = 0; i < P.rows(); ++i) {
+      unsigned char* r = buffer_.data() + size * static_cast<std::size_t>(i);
+      for (int d = 0; d < 3; ++d) {
+        encode_field(layout_, d, P(i, d), r);
+        if (normals) encode_field(layout_, 3 + d, N(i, d), r);
+      }
+      int f = normals ? 6 : 3;
+      if (heights) encode_field(layout_, f++, (*heights)[static_cast<std::size_t>(i)], r);
+      if (labels) encode_field(layout_, f, (*labels)[static_cast<std::size_t>(i)], r);
+    }
+    put(buffer_.data(), buffer_.size());
+  }
+  void commit() { file_.commit(); }
+
+ private:
+  void put(const void* data, std::size_t size) {
+    if (std::fwrite(data, 1, size, file_.get()) != size)
+      throw std::runtime_error("cannot write '" + path_ + "' (disk full?)");
+  }
+  OutputFile file_;
+  PlyVertexLayout layout_;
+  std::string path_;
+  std::vector<unsigned char> buffer_;
+};
 
 }  // namespace
 
@@ -117,6 +158,12 @@ int run_synth(int argc, char** argv) {
                "Leave the normals out of the textured cloud, as in a raw x y z scan (the ground "
                "truth keeps its normals)");
 
+  std::int64_t block = 0;
+  app.add_option("--block", block,
+                 "Write the binary PLY cloud in blocks of this many points, never holding it "
+                 "whole (0: at once up to 4M points, in blocks of 1M above); same bytes")
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -164,6 +211,52 @@ int run_synth(int argc, char** argv) {
       std::fprintf(stderr, "detexture synth: %s\n", e.what());
       return kExitInput;
     }
+  }
+  const bool ply_out = format_from_extension(output) == FileFormat::Ply &&
+                       format_from_extension(ground_truth) == FileFormat::Ply;
+  if (block == 0 && params.points > 4000000) block = 1000000;
+  if (block > 0 && !ascii && ply_out) {
+    try {
+      const ScalarType real = single ? ScalarType::Float32 : ScalarType::Float64;
+      BlockWriter cloud(
+          output,
+          make_layout(real, !no_normals,
+                      {{"texture_height", real}, {"is_texture", ScalarType::UInt8}},
+                      static_cast<std::uint64_t>(params.points), {describe(params, base_mesh)}));
+      BlockWriter truth(
+          ground_truth,
+          make_layout(
+              real, true, {}, static_cast<std::uint64_t>(params.ground_truth_points),
+              {"ground truth (untextured base surface) of " + describe(params, base_mesh)}));
+      std::size_t texture_points = 0;
+      const SynthesizedShape summary = synthesize_shape_blocks(
+          params, block,
+          [&](const SynthesizedShape& b, std::int64_t) {
+            cloud.write(b.positions, b.normals, &b.texture_heights, &b.is_texture);
+            for (const std::uint8_t t : b.is_texture) texture_points += t;
+          },
+          [&](const SynthesizedShape& b, std::int64_t) {
+            truth.write(b.ground_truth_positions, b.ground_truth_normals, nullptr, nullptr);
+          });
+      cloud.commit();
+      truth.commit();
+      std::printf(
+          "wrote %lld points (%.1f%% texture, %zu features, noise sigma %.3g) to %s, in blocks "
+          "of %lld\nwrote %lld ground-truth points of the untextured %s to %s\n"
+          "base area %.6g diagonal %.6g\n",
+          static_cast<long long>(params.points),
+          100.0 * static_cast<double>(texture_points) / static_cast<double>(params.points),
+          summary.feature_count, summary.noise_sigma, output.c_str(), static_cast<long long>(block),
+          static_cast<long long>(params.ground_truth_points), base_shape_name(params.shape),
+          ground_truth.c_str(), summary.area, summary.diagonal);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "detexture synth: %s\n", e.what());
+      return kExitUsage;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "detexture synth: %s\n", e.what());
+      return kExitOutput;
+    }
+    return kExitOk;
   }
   try {
     synth = synthesize_shape(params);

@@ -6,7 +6,7 @@
 # installed.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libnanoflann-dev libcli11-dev
-          libgtest-dev googletest libpng-dev liblzf-dev
+          libgtest-dev googletest libpng-dev liblzf-dev libopenmpi-dev openmpi-bin
           python3 python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest
           python3-open3d python3-matplotlib)
 [ $# -gt 0 ] && packages=("$@")

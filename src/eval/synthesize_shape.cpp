@@ -1381,6 +1381,50 @@ void validate_synth_params(const SynthParams& p) {
     throw std::invalid_argument("unknown shape, texture or layout value");
 }
 
+namespace {
+
+// Textured points first .. first + n - 1 into rows 0 .. n - 1 of out (each
+// seeded by its own index, so blocks give the same values as one run).
+void sample_points(const SynthParams& params, const BaseSurface& base, const HeightField& field,
+                   double noise_sigma, std::int64_t first, Eigen::Index n, SynthesizedShape& out,
+                   bool with_base) {
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Rng rng(params.seed, kPoints, static_cast<std::uint64_t>(first + k));
+    const int patch = base.choose_patch(rng.uniform());
+    Frame frame;
+    const Vector3d b = base.sample(patch, rng, frame);
+    double h;
+    Vector3d grad;
+    field.evaluate(patch, b, frame, h, grad);
+    Vector3d p = b + h * frame.n;
+    if (noise_sigma > 0.0) p += noise_sigma * Vector3d(rng.normal(), rng.normal(), rng.normal());
+    out.positions.row(k) = p.transpose();
+    out.normals.row(k) = textured_normal(frame, h, grad).transpose();
+    if (with_base) {
+      out.base_positions.row(k) = b.transpose();
+      out.base_normals.row(k) = frame.n.transpose();
+    }
+    out.texture_heights[static_cast<std::size_t>(k)] = h;
+    out.is_texture[static_cast<std::size_t>(k)] = std::abs(h) > kTextureHeightEpsilon ? 1 : 0;
+  }
+}
+
+void sample_ground_truth(const SynthParams& params, const BaseSurface& base, std::int64_t first,
+                         Eigen::Index m, Positions& P, Normals& N) {
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index k = 0; k < m; ++k) {
+    Rng rng(params.seed, kGroundTruth, static_cast<std::uint64_t>(first + k));
+    const int patch = base.choose_patch(rng.uniform());
+    Frame frame;
+    const Vector3d b = base.sample(patch, rng, frame);
+    P.row(k) = b.transpose();
+    N.row(k) = frame.n.transpose();
+  }
+}
+
+}  // namespace
+
 SynthesizedShape synthesize_shape(const SynthParams& params) {
   validate_synth_params(params);
   const BaseSurface base(params);
@@ -1401,37 +1445,48 @@ SynthesizedShape synthesize_shape(const SynthParams& params) {
   out.base_normals.resize(n, 3);
   out.texture_heights.resize(static_cast<std::size_t>(n));
   out.is_texture.resize(static_cast<std::size_t>(n));
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < n; ++i) {
-    Rng rng(params.seed, kPoints, static_cast<std::uint64_t>(i));
-    const int patch = base.choose_patch(rng.uniform());
-    Frame frame;
-    const Vector3d b = base.sample(patch, rng, frame);
-    double h;
-    Vector3d grad;
-    field.evaluate(patch, b, frame, h, grad);
-    Vector3d p = b + h * frame.n;
-    if (out.noise_sigma > 0.0)
-      p += out.noise_sigma * Vector3d(rng.normal(), rng.normal(), rng.normal());
-    out.positions.row(i) = p.transpose();
-    out.normals.row(i) = textured_normal(frame, h, grad).transpose();
-    out.base_positions.row(i) = b.transpose();
-    out.base_normals.row(i) = frame.n.transpose();
-    out.texture_heights[static_cast<std::size_t>(i)] = h;
-    out.is_texture[static_cast<std::size_t>(i)] = std::abs(h) > kTextureHeightEpsilon ? 1 : 0;
-  }
+  sample_points(params, base, field, out.noise_sigma, 0, n, out, true);
 
   const Eigen::Index m = static_cast<Eigen::Index>(params.ground_truth_points);
   out.ground_truth_positions.resize(m, 3);
   out.ground_truth_normals.resize(m, 3);
-#pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < m; ++i) {
-    Rng rng(params.seed, kGroundTruth, static_cast<std::uint64_t>(i));
-    const int patch = base.choose_patch(rng.uniform());
-    Frame frame;
-    const Vector3d b = base.sample(patch, rng, frame);
-    out.ground_truth_positions.row(i) = b.transpose();
-    out.ground_truth_normals.row(i) = frame.n.transpose();
+  sample_ground_truth(params, base, 0, m, out.ground_truth_positions, out.ground_truth_normals);
+  return out;
+}
+
+SynthesizedShape synthesize_shape_blocks(
+    const SynthParams& params, std::int64_t block,
+    const std::function<void(const SynthesizedShape& block, std::int64_t first)>& points,
+    const std::function<void(const SynthesizedShape& block, std::int64_t first)>& ground_truth) {
+  validate_synth_params(params);
+  if (block < 1) throw std::invalid_argument("the synthesis block must hold at least one point");
+  const BaseSurface base(params);
+  const HeightField field(params, base);
+  SynthesizedShape out;
+  out.feature_count = field.feature_count();
+  field.centers(out.feature_centers, out.feature_normals);
+  out.area = base.total_area();
+  out.diagonal = base.diagonal();
+  out.degenerate_triangles = base.degenerate_triangles();
+  out.noise_sigma = params.noise_absolute ? params.noise : params.noise * out.diagonal;
+  SynthesizedShape chunk;
+  for (std::int64_t first = 0; first < params.points; first += block) {
+    const auto n = static_cast<Eigen::Index>(std::min(block, params.points - first));
+    chunk.positions.resize(n, 3);
+    chunk.normals.resize(n, 3);
+    chunk.texture_heights.resize(static_cast<std::size_t>(n));
+    chunk.is_texture.resize(static_cast<std::size_t>(n));
+    sample_points(params, base, field, out.noise_sigma, first, n, chunk, false);
+    points(chunk, first);
+  }
+  chunk = SynthesizedShape();
+  for (std::int64_t first = 0; first < params.ground_truth_points; first += block) {
+    const auto m = static_cast<Eigen::Index>(std::min(block, params.ground_truth_points - first));
+    chunk.ground_truth_positions.resize(m, 3);
+    chunk.ground_truth_normals.resize(m, 3);
+    sample_ground_truth(params, base, first, m, chunk.ground_truth_positions,
+                        chunk.ground_truth_normals);
+    ground_truth(chunk, first);
   }
   return out;
 }

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -157,6 +158,19 @@ void validate_synth_params(const SynthParams& params);
 
 /// Sample the textured shape and its ground truth. Validates params first.
 SynthesizedShape synthesize_shape(const SynthParams& params);
+
+/// synthesize_shape for clouds too large to hold: the textured points go to
+/// `points` in blocks of at most `block` (positions, normals,
+/// texture_heights and is_texture of rows 0.. filled; `first` is the index
+/// of row 0), then the ground truth to `ground_truth` the same way
+/// (ground_truth_positions, ground_truth_normals). The values are those of
+/// synthesize_shape bit for bit, since every point is seeded by its index.
+/// Returns the summary fields (feature_count, feature centres, area,
+/// diagonal, noise_sigma, degenerate_triangles).
+SynthesizedShape synthesize_shape_blocks(
+    const SynthParams& params, std::int64_t block,
+    const std::function<void(const SynthesizedShape& block, std::int64_t first)>& points,
+    const std::function<void(const SynthesizedShape& block, std::int64_t first)>& ground_truth);
 
 struct TexturedSamples {
   Positions positions;          ///< #B by 3 b + h(b) n(b)
