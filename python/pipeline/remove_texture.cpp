@@ -198,6 +198,9 @@ void bind_remove_texture(py::module_& m) {
       .value("Global", UpdateMode::Global)
       .value("Isotropic", UpdateMode::Isotropic)
       .value("Eq9", UpdateMode::Eq9);
+  py::enum_<FaceWeighting>(m, "FaceWeighting")
+      .value("Angle", FaceWeighting::Angle)
+      .value("Area", FaceWeighting::Area);
 
   static DictFields<TextureScaleEstimate> scale_fields;
   py::class_<TextureScaleEstimate> scale(m, "TextureScaleEstimate",
