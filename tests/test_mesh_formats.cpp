@@ -135,6 +135,24 @@ TEST(Obj, ACreaseNormalLeavesOutTheNormalsAndColoursAreKept) {
   EXPECT_EQ(c.extras[1].values, (std::vector<double>{0, 1, 0, 0.5}));
 }
 
+// A colour beyond float's range (found by fuzz_read_obj) stays a double, so
+// the file written from it reads back instead of holding "inf".
+TEST(Obj, AColourBeyondFloatRangeRoundTrips) {
+  FormatDir dir;
+  const std::string path =
+      dir.write("huge.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 4.5e63\n");
+  const PointCloud c = read_point_cloud(path);
+  ASSERT_EQ(c.extras.size(), 3u);
+  EXPECT_EQ(c.extras[2].type, ScalarType::Float64);
+  EXPECT_EQ(c.extras[2].values[2], 4.5e63);
+  write_point_cloud(dir.file("back.obj"), c);
+  const PointCloud back = read_point_cloud(dir.file("back.obj"));
+  ASSERT_EQ(back.extras.size(), 3u);
+  EXPECT_EQ(back.extras[2].values, c.extras[2].values);
+  EXPECT_EQ(read_point_cloud(dir.write("small.obj", "v 0 0 0 1 0 0\n")).extras[0].type,
+            ScalarType::Float32);
+}
+
 TEST(Obj, RoundTripIsExact) {
   FormatDir dir;
   const PointCloud c = pyramid();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -197,10 +198,18 @@ PointCloud read_obj(std::string_view bytes, const std::string& path, ReadReport&
   }
 
   if (colored == n) {
+    // Float32 when every colour fits it (the usual 0-1 or 0-255), else
+    // Float64: a colour beyond float's range would become inf and the file
+    // written from it could not be read back (found by fuzz_read_obj).
+    bool fits_float = true;
+    for (const double c : colors)
+      fits_float = fits_float && std::abs(c) <= std::numeric_limits<float>::max();
+    const ScalarType type = fits_float ? ScalarType::Float32 : ScalarType::Float64;
     for (int d = 0; d < 3; ++d) {
-      PointProperty p{d == 0 ? "red" : d == 1 ? "green" : "blue", ScalarType::Float32, {}};
+      PointProperty p{d == 0 ? "red" : d == 1 ? "green" : "blue", type, {}};
       p.values.resize(n);
-      for (std::size_t i = 0; i < n; ++i) p.values[i] = static_cast<float>(colors[3 * i + d]);
+      for (std::size_t i = 0; i < n; ++i)
+        p.values[i] = fits_float ? static_cast<float>(colors[3 * i + d]) : colors[3 * i + d];
       cloud.extras.push_back(std::move(p));
     }
   } else if (colored > 0) {
