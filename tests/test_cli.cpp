@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "png_support.h"
@@ -18,31 +19,9 @@ namespace fs = std::filesystem;
 namespace detexture {
 namespace {
 
-class Cli : public ::testing::Test {
+class Cli : public test::CliFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("detexture_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  // Runs the CLI with args; returns the exit code and keeps stderr.
-  int run(const std::string& args) {
-    const std::string err = path("stderr.txt");
-    const std::string cmd =
-        std::string(DETEXTURE_CLI_PATH) + " " + args + " > " + path("stdout.txt") + " 2> " + err;
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(err);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    stderr_ = ss.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
+  Cli() : CliFixture("detexture_cli_") {}
 
   // A plane with a bump: small, fast, and the answer is known.
   PointCloud bumpy(bool normals) const {
@@ -56,9 +35,6 @@ class Cli : public ::testing::Test {
   void write_text(const std::string& name, const std::string& text) const {
     std::ofstream(path(name), std::ios::binary) << text;
   }
-
-  fs::path dir_;
-  std::string stderr_;
 };
 
 int lines(const std::string& text) {

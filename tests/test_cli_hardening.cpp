@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli_fixture.h"
 #include "detexture/io/read_point_cloud.h"
 #include "detexture/io/write_point_cloud.h"
 #include "test_support.h"
@@ -26,39 +27,17 @@ namespace fs = std::filesystem;
 namespace detexture {
 namespace {
 
-class CliHardening : public ::testing::Test {
+class CliHardening : public test::CliFixture {
  protected:
+  CliHardening() : CliFixture("detexture_cli_hard_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("detexture_cli_hard_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliFixture::SetUp();
     PointCloud c;
     const auto s = test::bumpy_plane(41, 0.03, 0.05);
     c.positions = s.P;
     c.normals = s.N;
     write_point_cloud(path("in.ply"), c);
     input_bytes_ = bytes_of(path("in.ply"));
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  static std::string bytes_of(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-
-  // Runs the CLI through the shell (so `prefix` may set ulimits); returns
-  // the exit code and keeps stderr.
-  int run(const std::string& args, const std::string& prefix = "") {
-    const std::string cmd = prefix + std::string(DETEXTURE_CLI_PATH) + " " + args + " > " +
-                            path("stdout.txt") + " 2> " + path("stderr.txt");
-    const int status = std::system(cmd.c_str());
-    stderr_ = bytes_of(path("stderr.txt"));
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 
   std::vector<std::string> temporary_files() const {
@@ -71,8 +50,7 @@ class CliHardening : public ::testing::Test {
     return found;
   }
 
-  fs::path dir_;
-  std::string stderr_, input_bytes_;
+  std::string input_bytes_;
 };
 
 bool one_line(const std::string& text) { return text.find('\n') == text.size() - 1; }
@@ -212,7 +190,8 @@ TEST_F(CliHardening, MemoryGuardRefusesWithExitCode5) {
   EXPECT_NE(stderr_.find("1.0 MiB"), std::string::npos) << stderr_;
   EXPECT_EQ(stderr_.find("bad_alloc"), std::string::npos) << stderr_;
   EXPECT_FALSE(fs::exists(path("out.ply")));
-  EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -q"), 0)
+  EXPECT_EQ(
+      run(path("in.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -q"), 0)
       << stderr_;
   EXPECT_EQ(run(path("in.ply") + " -o " + path("o2.ply") + " --memory-limit 12Q"), 2);
 }
@@ -244,9 +223,10 @@ TEST_F(CliHardening, OutOfMemoryIsAResourceErrorNotBadAlloc) {
   c.positions = s.P;
   c.normals = s.N;
   write_point_cloud(path("40k.ply"), c);
-  EXPECT_EQ(run(path("40k.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -j 1",
-                "ulimit -v 400000 && "),
-            5)
+  EXPECT_EQ(
+      run(path("40k.ply") + " -o " + path("out.ply") + " -r 10 --force --memory-limit none -j 1",
+          "ulimit -v 400000 && "),
+      5)
       << stderr_;
   EXPECT_NE(stderr_.find("error: out of memory; use a smaller --radius"), std::string::npos)
       << stderr_;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
 #include "detexture/geometry/face_normals.h"
 #include "detexture/geometry/mesh_folds.h"
 #include "detexture/io/face_list.h"
@@ -50,29 +51,9 @@ PointCloud bumpy_mesh() {
   return c;
 }
 
-class CliMesh : public ::testing::Test {
+class CliMesh : public test::CliFixture {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("detexture_cli_mesh_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  int run(const std::string& args) {
-    const std::string cmd = std::string(DETEXTURE_CLI_PATH) + " " + args + " > " +
-                            path("stdout.txt") + " 2> " + path("stderr.txt");
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(path("stderr.txt"));
-    std::stringstream ss;
-    ss << in.rdbuf();
-    stderr_ = ss.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  fs::path dir_;
-  std::string stderr_;
+  CliMesh() : CliFixture("detexture_cli_mesh_") {}
 };
 
 TEST_F(CliMesh, EveryMeshFormatComesOutTheSameWithTheBumpsLowered) {

@@ -14,38 +14,19 @@
 #include <string>
 #include <thread>
 
+#include "cli_fixture.h"
+
 namespace fs = std::filesystem;
 
 namespace detexture {
 namespace {
 
-class CliTiling : public ::testing::Test {
+class CliTiling : public test::CliFixture {
  protected:
+  CliTiling() : CliFixture("detexture_cli_tiling_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("detexture_cli_tiling_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
+    CliFixture::SetUp();
     fs::create_directories(dir_ / "tmp");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  int run(const std::string& args) {
-    const std::string err = path("stderr.txt");
-    const std::string cmd =
-        std::string(DETEXTURE_CLI_PATH) + " " + args + " > " + path("stdout.txt") + " 2> " + err;
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(err);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    stderr_ = ss.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string bytes(const std::string& name) const {
-    std::ifstream in(path(name), std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
   }
   bool temp_empty() const { return fs::is_empty(dir_ / "tmp"); }
   // 8k points of a bumpy sphere, made once per test.
@@ -55,8 +36,6 @@ class CliTiling : public ::testing::Test {
               0)
         << stderr_;
   }
-  fs::path dir_;
-  std::string stderr_;
 };
 
 TEST_F(CliTiling, SynthInBlocksWritesTheSameBytes) {
