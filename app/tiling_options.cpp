@@ -149,6 +149,20 @@ RemoveTextureResult run_maybe_tiled(Positions P, Normals normals, const RemoveTe
   return r;
 }
 
+namespace {
+
+// The closing line of an out-of-core run on stderr.
+void print_out_of_core_summary(const OutOfCoreReport& r) {
+  std::fprintf(stderr,
+               "tiles: %d x %d x %d grid of size %g (%s), halo %g; scan %.1f s, bin %.1f s, "
+               "tiles %.1f s\n",
+               r.tiles.grid(0), r.tiles.grid(1), r.tiles.grid(2), r.tiles.tile_size,
+               r.tiles.tile_size_reason.c_str(), r.tiles.halo, r.scan_seconds, r.bin_seconds,
+               r.tiles_seconds);
+}
+
+}  // namespace
+
 OutOfCoreReport run_out_of_core(const std::string& input, const std::string& output,
                                 const RemoveTextureParams& params, const TilingOptions& options,
                                 bool quiet) {
@@ -175,13 +189,7 @@ OutOfCoreReport run_out_of_core(const std::string& input, const std::string& out
     OutOfCoreReport r =
         remove_texture_mpi(session, input, output, params, options.params, ooc, observer);
     r.root = root;
-    if (!quiet && root)
-      std::fprintf(stderr,
-                   "tiles: %d x %d x %d grid of size %g (%s), halo %g; scan %.1f s, bin %.1f s, "
-                   "tiles %.1f s\n",
-                   r.tiles.grid(0), r.tiles.grid(1), r.tiles.grid(2), r.tiles.tile_size,
-                   r.tiles.tile_size_reason.c_str(), r.tiles.halo, r.scan_seconds, r.bin_seconds,
-                   r.tiles_seconds);
+    if (!quiet && root) print_out_of_core_summary(r);
     return r;
   }
 #endif
@@ -192,13 +200,7 @@ OutOfCoreReport run_out_of_core(const std::string& input, const std::string& out
     };
   const OutOfCoreReport r =
       remove_texture_out_of_core(input, output, params, options.params, ooc, observer);
-  if (!quiet)
-    std::fprintf(stderr,
-                 "tiles: %d x %d x %d grid of size %g (%s), halo %g; scan %.1f s, bin %.1f s, "
-                 "tiles %.1f s\n",
-                 r.tiles.grid(0), r.tiles.grid(1), r.tiles.grid(2), r.tiles.tile_size,
-                 r.tiles.tile_size_reason.c_str(), r.tiles.halo, r.scan_seconds, r.bin_seconds,
-                 r.tiles_seconds);
+  if (!quiet) print_out_of_core_summary(r);
   return r;
 }
 

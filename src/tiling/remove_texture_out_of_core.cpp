@@ -105,15 +105,8 @@ TileLogEntry run_binned_tile(const TileBins& bins, std::size_t t, const TilePlan
   TileResult tr;
   try {
     tr = run_tile(std::move(P), std::move(N), is_core, tile_params, inner);
-  } catch (const ResourceLimitError& e) {
-    throw ResourceLimitError("tile " + std::to_string(t) + " (" + std::to_string(m) +
-                             " points) failed: " + e.what());
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("tile " + std::to_string(t) + " (" + std::to_string(m) +
-                                " points) failed: " + e.what());
-  } catch (const std::exception& e) {
-    throw std::runtime_error("tile " + std::to_string(t) + " (" + std::to_string(m) +
-                             " points) failed: " + e.what());
+  } catch (...) {
+    rethrow_tile_failure(t, m, true);
   }
   std::vector<unsigned char> record(out.record_size);
   for (std::size_t c = 0; c < tr.core.size(); ++c) {

@@ -148,12 +148,8 @@ RemoveTextureResult remove_texture_tiled(Positions P, Normals normals,
     TileResult tr;
     try {
       tr = run_tile(std::move(TP), std::move(TN), is_core, run.tile_params, inner);
-    } catch (const ResourceLimitError& e) {
-      throw ResourceLimitError("tile " + std::to_string(k) + " (" + std::to_string(m) +
-                               " points) failed: " + e.what());
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("tile " + std::to_string(k) + " (" + std::to_string(m) +
-                                  " points) failed: " + e.what());
+    } catch (...) {
+      rethrow_tile_failure(k, m, false);
     }
     for (std::size_t c = 0; c < tr.core.size(); ++c) {
       const Eigen::Index i = rows[tr.core[c]];

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 namespace detexture {
 
@@ -32,6 +33,21 @@ TileResult run_tile(Positions P, Normals normals, const std::vector<std::uint8_t
   }
   out.report = std::move(r.report);
   return out;
+}
+
+void rethrow_tile_failure(std::size_t tile, std::size_t points, bool wrap_other) {
+  const std::string what =
+      "tile " + std::to_string(tile) + " (" + std::to_string(points) + " points) failed: ";
+  try {
+    throw;
+  } catch (const ResourceLimitError& e) {
+    throw ResourceLimitError(what + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(what + e.what());
+  } catch (const std::exception& e) {
+    if (!wrap_other) throw;
+    throw std::runtime_error(what + e.what());
+  }
 }
 
 }  // namespace detexture

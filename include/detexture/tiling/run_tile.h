@@ -29,4 +29,11 @@ struct TileResult {
 TileResult run_tile(Positions P, Normals normals, const std::vector<std::uint8_t>& is_core,
                     const RemoveTextureParams& params, const PipelineObserver& observer = {});
 
+/// From a catch block around run_tile: rethrows the exception being handled
+/// with "tile TILE (POINTS points) failed: " before its message. A
+/// ResourceLimitError or std::invalid_argument keeps its type (and so its
+/// exit code); another std::exception becomes a std::runtime_error when
+/// wrap_other is set and passes unchanged otherwise, as does anything else.
+[[noreturn]] void rethrow_tile_failure(std::size_t tile, std::size_t points, bool wrap_other);
+
 }  // namespace detexture
