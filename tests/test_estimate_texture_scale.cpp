@@ -124,6 +124,34 @@ TEST(EstimateTextureScale, BumpsOnACubeAndPlainCurvedShapes) {
   }
 }
 
+// Dense waves on the knot's tube (radius 0.07): the relief curve rises
+// with the waves, levels off, and rises again as the tube bends away from
+// the quadrics. Read over the whole curve (plateau_slope = 0, the first
+// version) the tube's bend sets the radius, 2.5 R; read up to the plateau,
+// the waves do.
+TEST(EstimateTextureScale, TextureOnATubeIsReadOnItsPlateau) {
+  SynthParams sp;
+  sp.shape = BaseShape::Knot;
+  sp.texture = TextureKind::Waves;
+  sp.layout = TextureLayout::Dense;
+  sp.size = 0.02;
+  sp.amplitude = 0.006;
+  sp.points = 100000;
+  sp.ground_truth_points = 10;
+  const SynthesizedShape s = synthesize_shape(sp);
+  const TextureScaleEstimate e = estimate_texture_scale(s.positions, s.normals);
+  ASSERT_TRUE(e.texture_found) << e.reason;
+  EXPECT_GT(e.texture_radius, 0.7 * sp.size);
+  EXPECT_LT(e.texture_radius, 1.5 * sp.size);
+  EXPECT_NE(e.reason.find("levels off"), std::string::npos) << e.reason;
+  EstimateTextureScaleParams whole;
+  whole.plateau_slope = 0.0;
+  const TextureScaleEstimate w = estimate_texture_scale(s.positions, s.normals, whole);
+  ASSERT_TRUE(w.texture_found) << w.reason;
+  EXPECT_GT(w.texture_radius, 2.0 * sp.size);
+  EXPECT_EQ(w.residual, e.residual) << "the same curve, read differently";
+}
+
 TEST(EstimateTextureScale, TooFewPointsIsNoTextureWithAReason) {
   const Positions P = grid(4, 0.1, [](double, double) { return 0.0; });
   const TextureScaleEstimate e = estimate_texture_scale(P, Normals());

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "detexture/geometry/point_index.h"
@@ -27,6 +28,8 @@ void validate(const EstimateTextureScaleParams& p) {
     throw std::invalid_argument("the rise fraction must be in (0, 1)");
   if (!(p.max_end_slope > 0.0))
     throw std::invalid_argument("the largest end slope must be positive");
+  if (!(p.plateau_slope >= 0.0) || !std::isfinite(p.plateau_slope))
+    throw std::invalid_argument("the plateau slope must be >= 0 (0: read the whole curve)");
   if (!(p.radius_calibration > 0.0) || !(p.min_relief >= 0.0) || !(p.min_noise_ratio >= 0.0))
     throw std::invalid_argument("the scale calibration and thresholds must be positive");
 }
@@ -242,21 +245,66 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   std::vector<double> T(J);
   for (std::size_t j = 0; j < J; ++j)
     T[j] = std::sqrt(std::max(0.0, est.residual[j] * est.residual[j] - est.noise * est.noise));
-  const std::size_t jmax =
-      static_cast<std::size_t>(std::max_element(T.begin(), T.end()) - T.begin());
-  const double tmax = T[jmax];
   // The radius is read on the peak-to-valley relief G (above its value at the
   // smallest radius, the noise's), which reaches its full height as soon as
   // a neighborhood spans a whole feature; the RMS T decides whether there is
-  // texture at all.
+  // texture at all. Both are read up to `last`: the whole curve, or the end
+  // of the texture's plateau when the curve has one (below).
   std::vector<double> G(J);
   for (std::size_t j = 0; j < J; ++j) G[j] = std::max(0.0, est.relief[j] - est.relief[0]);
-  const double gmax = *std::max_element(G.begin(), G.end());
-  std::size_t jr = 0;
-  while (jr < J && G[jr] < params.rise_fraction * gmax) ++jr;
-  const double read = crossing(est.radii, G, std::min(jr, J - 1), params.rise_fraction * gmax);
+  struct Reading {
+    double read = 0.0, tmax = 0.0;
+    std::size_t jmax = 0;
+  };
+  auto read_up_to = [&](std::size_t last) {
+    Reading out;
+    const double gmax = *std::max_element(G.begin(), G.begin() + last + 1);
+    std::size_t jr = 0;
+    while (jr < J && G[jr] < params.rise_fraction * gmax) ++jr;
+    out.read = crossing(est.radii, G, std::min(jr, J - 1), params.rise_fraction * gmax);
+    out.jmax =
+        static_cast<std::size_t>(std::max_element(T.begin(), T.begin() + last + 1) - T.begin());
+    out.tmax = T[out.jmax];
+    return out;
+  };
+  auto has_relief = [&](const Reading& g) {
+    return g.tmax > params.min_relief * g.read && g.tmax > params.min_noise_ratio * est.noise;
+  };
+  // The plateau: on a curved base (limbs, tubes, a body) G rises with the
+  // texture, levels off once r spans the features, and rises again as the
+  // base bends away from the quadric; its largest value is then the base's,
+  // and reading at a share of it put r at 2.5-3.3 × the hand-set one on the
+  // real-shape suite. The flattest step of G (least log-log slope) marks the
+  // plateau when its slope is below `plateau_slope`; the curve is read up to
+  // its end, provided the relief there is texture (the tests below). On a
+  // flat or gently curved base the flattest step is at the large radii and
+  // this reads the whole curve, as before.
+  std::size_t flattest = 0;
+  double least_slope = std::numeric_limits<double>::infinity();
+  for (std::size_t j = 1; j + 1 < J; ++j) {
+    if (!(G[j] > 0.0) || !(G[j + 1] > 0.0)) continue;
+    const double slope = std::log(G[j + 1] / G[j]) / std::log(est.radii[j + 1] / est.radii[j]);
+    if (slope < least_slope) {
+      least_slope = slope;
+      flattest = j;
+    }
+  }
+  if (least_slope < params.plateau_slope && flattest + 2 < J) {
+    const Reading g = read_up_to(flattest + 1);
+    if (has_relief(g)) {
+      est.texture_found = true;
+      est.texture_radius = params.radius_calibration * g.read;
+      est.texture_height = G[g.jmax];
+      est.reason = "relief above local quadrics grows up to radius " + text(g.read) +
+                   " and levels off at " + text(g.tmax) + " RMS up to radius " +
+                   text(est.radii[flattest + 1]) + " (beyond that, the shape's own curvature)";
+      return est;
+    }
+  }
+  const Reading whole = read_up_to(J - 1);
+  const double read = whole.read, tmax = whole.tmax;
   const double R = params.radius_calibration * read;
-  if (!(tmax > params.min_relief * read) || !(tmax > params.min_noise_ratio * est.noise)) {
+  if (!has_relief(whole)) {
     est.reason = "no texture found: the relief above local quadrics stays below " +
                  text(params.min_relief) + " of the radius" +
                  (tmax <= params.min_noise_ratio * est.noise ? " and within the noise" : "") +
@@ -274,7 +322,7 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   }
   est.texture_found = true;
   est.texture_radius = R;
-  est.texture_height = G[jmax];
+  est.texture_height = G[whole.jmax];
   est.reason = "relief above local quadrics grows up to radius " + text(read) +
                " and levels off at " + text(tmax) + " RMS";
   return est;

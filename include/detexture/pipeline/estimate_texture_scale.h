@@ -31,6 +31,12 @@
 //     (both set on `detexture synth` shapes of known R,
 //     bench/scale_estimate.py --calibration). The texture height is G at
 //     the radius where T is largest.
+//     On a curved base (limbs, a body, a tube) the relief rises with the
+//     texture, levels off, then rises again as the base bends away from the
+//     quadric; the largest value is then the base's. So when the curve has a
+//     plateau (its flattest step has a log-log slope below `plateau_slope`)
+//     whose relief passes the tests of step 4, it is read only up to the end
+//     of that plateau.
 //  4. No texture: when the largest T is at most `min_relief` × the radius
 //     at which it is read (relief flatter than that slope is not texture
 //     worth removing), or at most `min_noise_ratio` × σ (not
@@ -77,6 +83,14 @@ struct EstimateTextureScaleParams {
   /// faster growth is the base's own curvature beyond a quadric (tubes,
   /// limbs), not texture, which levels off.
   double max_end_slope = 2.5;
+  /// The end of the texture's plateau: the flattest step of the relief
+  /// curve, when its log-log slope is below this, ends the part of the curve
+  /// that is read (step 3 above); >= 0, 0 reads the whole curve (the first
+  /// version). 1.0 took bench/scale_estimate.py's 60 textured cases (its
+  /// validation and calibration sets and the real-shape suite) from 51 to 55
+  /// within 0.7-1.5 R, with all 14 untextured ones still "no texture"; 0.8
+  /// gave the same, 1.2 lost two dense-dome cases to an early dip.
+  double plateau_slope = 1.0;
 };
 
 /// Throws std::invalid_argument naming the bad parameter.
