@@ -161,6 +161,9 @@ int print_scale_report(const std::string& input, FileFormat format,
   std::printf("%s: %zu points, bounding-box diagonal d = %g\n%s\n", input.c_str(), cloud.size(),
               r.diagonal, scale_line(r).c_str());
   if (!r.scale.texture_found) std::printf("%s\n", r.scale.reason.c_str());
+  if (r.scale.thin_radius > 0.0)
+    std::printf("thin parts: %g%% of the surface reaches the back of a thin part within %.3g\n",
+                std::round(100.0 * params.scale.thin_share), r.scale.thin_radius);
   std::printf("radius      residual RMS  relief (peak-to-valley), median of %zu samples\n",
               r.scale.samples);
   for (std::size_t j = 0; j < r.scale.radii.size(); ++j)
@@ -188,9 +191,10 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   if (r.scale_estimated)
     add("  \"scale\": {\"texture_found\": %s, \"texture_radius\": %.6g, "
         "\"texture_height\": %.6g, \"spacing\": %.6g, \"noise\": %.6g, "
-        "\"samples\": %zu, \"reason\": \"%s\"},\n",
+        "\"thin_radius\": %.6g, \"samples\": %zu, \"reason\": \"%s\"},\n",
         r.scale.texture_found ? "true" : "false", r.scale.texture_radius, r.scale.texture_height,
-        r.scale.spacing, r.scale.noise, r.scale.samples, json_text(r.scale.reason).c_str());
+        r.scale.spacing, r.scale.noise, r.scale.thin_radius, r.scale.samples,
+        json_text(r.scale.reason).c_str());
   add("  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
   add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
@@ -645,7 +649,8 @@ int run_detexture(int argc, char** argv) {
     std::string tiles;
     if (faces.size() > 0 && tiling.tile_given)
       throw std::invalid_argument(
-          "--tile works on point clouds, and '" + input + "' has faces; leave out --tile, or "
+          "--tile works on point clouds, and '" + input +
+          "' has faces; leave out --tile, or "
           "filter the vertices as a cloud with --mesh cloud and drop the faces first");
     RemoveTextureResult result =
         faces.size() > 0 ? remove_texture(std::move(cloud.positions), std::move(normals), faces,

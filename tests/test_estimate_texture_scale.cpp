@@ -192,6 +192,48 @@ TEST(ChooseRadius, FollowsTheTextureOrFallsBack) {
   c = choose_radius(p, 1.0, e);
   EXPECT_DOUBLE_EQ(c.radius, 0.05);
   EXPECT_EQ(c.choice, "given");
+  // Thin parts cap a radius chosen from the texture, not a given one, and
+  // not below the radius holding 30 neighbors.
+  e.texture_found = true;
+  e.spacing = 0.002;
+  e.thin_radius = 0.03;
+  EXPECT_DOUBLE_EQ(choose_radius(p, 1.0, e).radius, 0.05);
+  p.radius = RemoveTextureParams().radius;
+  c = choose_radius(p, 1.0, e);
+  EXPECT_DOUBLE_EQ(c.radius, 0.03);
+  EXPECT_NE(c.reason.find("thin parts"), std::string::npos) << c.reason;
+  e.thin_radius = 0.05;
+  EXPECT_DOUBLE_EQ(choose_radius(p, 1.0, e).radius, 0.045) << "thicker than r: no cap";
+  e.thin_radius = 0.001;
+  EXPECT_DOUBLE_EQ(choose_radius(p, 1.0, e).radius, 0.002 * std::sqrt(30.0 / M_PI));
+}
+
+// Two egg-crates back to back, `gap` apart (a textured plate): every sample
+// reaches the back at about the gap, so the thin radius is the gap; a plate
+// thicker than the largest radius analysed has none.
+TEST(EstimateTextureScale, ThinRadiusOfATexturedPlate) {
+  for (const double gap : {0.04, 0.3}) {
+    const Positions top = egg_crate(0.03, 0.009);
+    Positions P(2 * top.rows(), 3);
+    Normals N(2 * top.rows(), 3);
+    for (Eigen::Index i = 0; i < top.rows(); ++i) {
+      P.row(i) = top.row(i);
+      P.row(top.rows() + i) << top(i, 0), top(i, 1), -gap - top(i, 2);
+      N.row(i) << 0.0, 0.0, 1.0;
+      N.row(top.rows() + i) << 0.0, 0.0, -1.0;
+    }
+    const TextureScaleEstimate e = estimate_texture_scale(P, N);
+    ASSERT_TRUE(e.texture_found) << e.reason;
+    if (gap < 0.1) {
+      EXPECT_GT(e.thin_radius, gap - 0.02) << e.thin_radius;
+      EXPECT_LT(e.thin_radius, gap + 0.001) << e.thin_radius;
+      EXPECT_LE(choose_radius(RemoveTextureParams(), bounding_box_diagonal(P), e).radius,
+                e.thin_radius);
+    } else {
+      EXPECT_EQ(e.thin_radius, 0.0);
+    }
+    EXPECT_EQ(estimate_texture_scale(P, Normals()).thin_radius, 0.0) << "no normals, no test";
+  }
 }
 
 TEST(Length, TextureRadiusUnits) {

@@ -210,7 +210,8 @@ void bind_remove_texture(py::module_& m) {
            {"spacing", &TextureScaleEstimate::spacing},
            {"noise", &TextureScaleEstimate::noise},
            {"texture_radius", &TextureScaleEstimate::texture_radius},
-           {"texture_height", &TextureScaleEstimate::texture_height}})
+           {"texture_height", &TextureScaleEstimate::texture_height},
+           {"thin_radius", &TextureScaleEstimate::thin_radius}})
     readonly(scale, scale_fields, name, member, std::string("TextureScaleEstimate.") + name);
   readonly(scale, scale_fields, "samples", &TextureScaleEstimate::samples,
            "TextureScaleEstimate.samples");

@@ -28,6 +28,10 @@ void validate(const EstimateTextureScaleParams& p) {
     throw std::invalid_argument("the rise fraction must be in (0, 1)");
   if (!(p.max_end_slope > 0.0))
     throw std::invalid_argument("the largest end slope must be positive");
+  if (!(p.thin_share > 0.0 && p.thin_share < 1.0))
+    throw std::invalid_argument("the thin-part share must be in (0, 1)");
+  if (!(p.thin_angle_deg > 90.0 && p.thin_angle_deg <= 180.0))
+    throw std::invalid_argument("the thin-part angle must be in (90, 180] degrees");
   if (!(p.plateau_slope >= 0.0) || !std::isfinite(p.plateau_slope))
     throw std::invalid_argument("the plateau slope must be >= 0 (0: read the whole curve)");
   if (!(p.radius_calibration > 0.0) || !(p.min_relief >= 0.0) || !(p.min_noise_ratio >= 0.0))
@@ -185,6 +189,9 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
     est.radii[j] = r0 * std::pow(r1 / r0, static_cast<double>(j) / static_cast<double>(J - 1));
   std::vector<double> rms(m * J, -1.0), range(m * J, -1.0);
   const bool have_normals = N.rows() == P.rows();
+  // Squared distance from each sample to the back of a thin part (step 5).
+  std::vector<double> back_sq(m, std::numeric_limits<double>::infinity());
+  const double thin_cos = std::cos(params.thin_angle_deg * M_PI / 180.0);
   const std::size_t cap = static_cast<std::size_t>(params.max_fit_points);
 #pragma omp parallel
   {
@@ -196,7 +203,12 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
       const double q[3] = {P(i, 0), P(i, 1), P(i, 2)};
       index.within(q, r1, found);
       if (have_normals) {
-        const Eigen::RowVector3d ni = N.row(i);
+        const Eigen::RowVector3d ni = N.row(i), pi = P.row(i);
+        for (const auto& [j, d2] : found) {
+          const Eigen::RowVector3d nj = N.row(j), d = P.row(j) - pi;
+          if (ni.dot(nj) < thin_cos && d.dot(ni) < 0.0 && d.dot(nj) > 0.0)
+            back_sq[s] = std::min(back_sq[s], d2);
+        }
         found.erase(std::remove_if(found.begin(), found.end(),
                                    [&](const auto& f) { return N.row(f.first).dot(ni) < 0.0; }),
                     found.end());
@@ -238,6 +250,13 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
       }
     est.residual[j] = median(e);
     est.relief[j] = median(g);
+  }
+
+  // 5. Thin parts (computed here, used by choose_radius).
+  if (have_normals) {
+    std::sort(back_sq.begin(), back_sq.end());
+    const std::size_t at = static_cast<std::size_t>(params.thin_share * static_cast<double>(m));
+    if (at < m && std::isfinite(back_sq[at])) est.thin_radius = std::sqrt(back_sq[at]);
   }
 
   // 3. Reading the curve.

@@ -119,6 +119,17 @@ RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
     c.radius = params.radius.value * scale.texture_radius;
     c.choice = "texture";
     c.reason = number_text(params.radius.value) + " × texture radius";
+    // Not across the body's own thin parts (estimate_texture_scale.h, step 5),
+    // nor below the radius holding fallback_neighbors.
+    const double floor = scale.spacing * std::sqrt(params.fallback_neighbors / M_PI);
+    if (scale.thin_radius > 0.0 && c.radius > scale.thin_radius && c.radius > floor) {
+      c.radius = std::max(scale.thin_radius, floor);
+      char within[32];
+      std::snprintf(within, sizeof within, "%.3g", scale.thin_radius);
+      c.reason += ", capped at the thickness of thin parts: " +
+                  number_text(std::round(100.0 * params.scale.thin_share)) +
+                  "% of the surface reaches the back of a thin part within " + within;
+    }
   } else {
     const double base = params.fallback_radius.resolve(diagonal, 0.0);
     const double dense = scale.spacing * std::sqrt(params.fallback_neighbors / M_PI);

@@ -45,6 +45,17 @@
 //     gives residuals growing as r^3-r^4, texture levels off (measured: untextured curved
 //     shapes 2.8-4.3, textured ones at most 2.2, bench/scale_estimate).
 //
+//  5. Thin parts (with normals only). The sample's neighbors that lie behind
+//     its tangent plane, with the sample behind theirs and normals more than
+//     `thin_angle_deg` apart, are the back of a thin part (a limb, a finger,
+//     a wall; the test of drop_opposite_neighbors.h). `thin_radius` is the
+//     distance within which `thin_share` of the samples reach such a back.
+//     choose_radius keeps an r chosen from the texture below it: with the
+//     body's own limbs inside every neighborhood, r = 1.5 R filters the
+//     shape as texture (a standing person with bumps, whose curve has no
+//     clear plateau, read R at 3.3 × the true one, and the run ended 3 × worse
+//     in normals than the input; capped, it ends as the hand-set r does).
+//
 // The samples are the m points with the smallest hash of (seed, their
 // coordinates), so the estimate is deterministic and does not depend on the
 // order of the points or on the thread count. Cost: m k-NN and m radius
@@ -91,6 +102,13 @@ struct EstimateTextureScaleParams {
   /// within 0.7-1.5 R, with all 14 untextured ones still "no texture"; 0.8
   /// gave the same, 1.2 lost two dense-dome cases to an early dip.
   double plateau_slope = 1.0;
+  /// Thin parts (step 5): the share of the samples that may reach the back
+  /// of a thin part within the chosen r, in (0, 1).
+  double thin_share = 0.1;
+  /// Thin parts: least angle between the normals of a sample and of a
+  /// neighbor behind it for the neighbor to be the back of the part, in
+  /// degrees, in (90, 180].
+  double thin_angle_deg = 120.0;
 };
 
 /// Throws std::invalid_argument naming the bad parameter.
@@ -103,8 +121,12 @@ struct TextureScaleEstimate {
   /// any texture finer than that (an upper bound of the noise).
   double noise = 0.0;
   bool texture_found = false;
-  double texture_radius = 0.0;   ///< R, the feature radius (as `synth --size`); 0 if none
-  double texture_height = 0.0;   ///< peak-to-valley relief at the saturated radius; 0 if none
+  double texture_radius = 0.0;  ///< R, the feature radius (as `synth --size`); 0 if none
+  double texture_height = 0.0;  ///< peak-to-valley relief at the saturated radius; 0 if none
+  /// The radius within which `thin_share` of the samples reach the back of a
+  /// thin part (step 5); 0 when fewer do within the largest radius, or when
+  /// no normals were given.
+  double thin_radius = 0.0;
   std::string reason;            ///< a sentence: what was found, or why no texture
   std::vector<double> radii;     ///< r_j, increasing
   std::vector<double> residual;  ///< E(r_j): median RMS residual above the quadrics

@@ -58,8 +58,9 @@ std::string to_string(const Length& length);
 struct RemoveTextureParams {
   /// r: radius (not diameter) of the neighborhoods R_i. By default 1.5 × the
   /// texture radius R that estimate_texture_scale finds (the rule the
-  /// benchmarks use: r = 1.5 R); when it finds no texture, `fallback_radius`.
-  /// An explicit length ("0.05", "0.02d") skips the estimate.
+  /// benchmarks use: r = 1.5 R), kept below the thickness of the shape's
+  /// thin parts when it has them (choose_radius); when it finds no texture,
+  /// `fallback_radius`. An explicit length ("0.05", "0.02d") skips the estimate.
   Length radius{1.5, Length::Unit::Texture};
   /// r when the radius is a multiple of the texture radius but no texture is
   /// found: 0.02 d, raised to give at least `fallback_neighbors` neighbors.
@@ -136,9 +137,11 @@ void validate(const RemoveTextureParams& params);
 
 /// How r follows from the parameters, the diagonal d and (when r is a
 /// multiple of the texture radius) the scale estimate: choice is "given",
-/// "texture" or "fallback" (no texture found: the larger of fallback_radius
-/// and the radius holding fallback_neighbors on a surface of the estimated
-/// spacing s, s √(n/π)); reason says it in words.
+/// "texture" (the multiple of the texture radius, kept below the estimate's
+/// thin_radius when the cloud has thin parts, but not below the radius
+/// holding fallback_neighbors) or "fallback" (no texture found: the larger of
+/// fallback_radius and the radius holding fallback_neighbors on a surface of
+/// the estimated spacing s, s √(n/π)); reason says it in words.
 struct RadiusChoice {
   double radius = 0.0;
   std::string choice, reason;
