@@ -199,6 +199,8 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
   add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
   add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
+  add("  \"thin_part_points\": %zu,\n  \"thin_part_neighbors\": %zu,\n", r.thin_part_points,
+      r.thin_part_neighbors);
   add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
@@ -367,6 +369,11 @@ int run_detexture(int argc, char** argv) {
                  "Neighbors back to back with the point (across a thin part or a convex "
                  "crease) whose normal differs from its normal by more than this (degrees) "
                  "are left out of R_i; 180 keeps all (the paper)")
+      ->capture_default_str();
+  app.add_option("--thin-part-radius", params.thin_parts.min_radius_fraction,
+                 "On parts thinner than r (limbs, fingers), R_i shrinks to the distance of "
+                 "the part's back, but not below this fraction of r; 1 keeps r everywhere "
+                 "(the paper)")
       ->capture_default_str();
   std::map<std::string, UnderlyingSurface> surfaces{{"plane", UnderlyingSurface::Plane},
                                                     {"quadric", UnderlyingSurface::Quadric}};
@@ -725,6 +732,9 @@ int run_detexture(int argc, char** argv) {
       if (r.moves_limited > 0)
         std::fprintf(stderr, "  moves cut to the limit %g (texture height %g): %zu points\n",
                      r.max_move, r.texture_height, r.moves_limited);
+      if (r.thin_part_points > 0)
+        std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
+                     r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());
       if (r.opposite_neighbors > 0)
         std::fprintf(stderr, "  neighbor pairs left out as another sheet: %zu (%.2f%%)\n",
                      r.opposite_neighbors,

@@ -238,8 +238,11 @@ DETEXTURE_VARIANTS = [
     ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
     ("hard-subneighborhood", ["--subneighborhood", "hard", "--vote-normal-angle", "180"],
      "the paper's Ω_i: hard labels from positions-only votes (the default before 2026-12-02)"),
+    ("whole-neighborhoods", ["--thin-part-radius", "1"],
+     "R_i of radius r everywhere, also on parts thinner than r (before 2026-12-02, session 5)"),
     ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
-                     "--subneighborhood", "hard", "--vote-normal-angle", "180"],
+                     "--subneighborhood", "hard", "--vote-normal-angle", "180",
+                     "--thin-part-radius", "1"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
@@ -342,7 +345,7 @@ def peer_args(peer, params, case, points, threads=None):
 # runs first, so they need not be exact.
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
-    "hard-subneighborhood": 0.15, "flat-shared": 0.15, "auto": 0.15,
+    "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

@@ -102,6 +102,9 @@ void validate(const RemoveTextureParams& p) {
   r.sigma_s = 1.0;
   validate(r);
   validate(p.sheets);
+  ShrinkToThinPartsParams thin = p.thin_parts;
+  thin.radius = 1.0;
+  validate(thin);
   UpdatePositionsParams u = p.update;
   u.sigma_p = 1.0;
   u.solve_radius = 1.0;
@@ -324,8 +327,13 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                        std::to_string(100.0 * rep.orientation_inconsistency) +
                        "% of neighbor pairs disagree); consider --reorient");
 
-  if (params.sheets.max_angle_deg < 180.0) {
+  if (params.sheets.max_angle_deg < 180.0 || params.thin_parts.min_radius_fraction < 1.0) {
     StageClock clock(observer, rep, "separate sheets");
+    ShrinkToThinPartsParams tp = params.thin_parts;
+    tp.radius = rep.radius;
+    const ShrinkToThinPartsResult thin = shrink_to_thin_parts(R, P, result.input_normals, tp);
+    rep.thin_part_points = thin.points;
+    rep.thin_part_neighbors = thin.removed;
     rep.opposite_neighbors = drop_opposite_neighbors(R, P, result.input_normals, params.sheets);
   }
 

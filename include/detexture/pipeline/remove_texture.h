@@ -17,6 +17,7 @@
 #include "detexture/geometry/estimate_neighborhoods_memory.h"
 #include "detexture/geometry/face_normals.h"
 #include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/geometry/shrink_to_thin_parts.h"
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/estimate_texture_scale.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
@@ -114,6 +115,10 @@ struct RemoveTextureParams {
   /// Neighbors facing away from p_i by more than this angle are on another
   /// sheet of a thin part and leave R_i (drop_opposite_neighbors.h).
   DropOppositeNeighborsParams sheets;
+  /// On parts thinner than r (limbs, fingers), R_i shrinks to the distance of
+  /// the part's back, but not below min_radius_fraction × r
+  /// (shrink_to_thin_parts.h; 1 = the paper). Its radius is filled from r.
+  ShrinkToThinPartsParams thin_parts;
   DetectTextureParams texture;           ///< δ, confidence, RANSAC cap, seed (λ from above)
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
@@ -179,6 +184,8 @@ struct RemoveTextureReport {
   std::size_t normals_flipped = 0;         ///< by orientation
   double orientation_inconsistency = 0.0;  ///< of the normals fed to the filters
   std::size_t opposite_neighbors = 0;      ///< (i, j) pairs dropped as another sheet
+  std::size_t thin_part_points = 0;        ///< points whose R_i shrank to a thin part
+  std::size_t thin_part_neighbors = 0;     ///< (i, j) entries that left R_i with it
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;
   double ransac_mean_iterations = 0.0;
