@@ -11,6 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/install_fuzz_deps.sh
+# PCL's own command-line tools, so that tests/test_pcd_pcl.cpp checks our PCD
+# files against PCL's reader and writer instead of skipping (issue 13).
+bash scripts/install_deps.sh pcl-tools
 bash scripts/build.sh
 start=$(date +%s)
 ctest --test-dir build --output-on-failure -j "$(nproc)"
