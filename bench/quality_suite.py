@@ -234,15 +234,17 @@ DETEXTURE_VARIANTS = [
     # name, extra options, what it shows
     ("detexture", [], "the full method (defaults)"),
     ("no-subneighborhood", ["--no-subneighborhood"], "plain Gaussian over R_i (Fig. 4 ablation)"),
-    ("plain-guidance", ["--guidance", "plain"], "classic rolling guidance, Zheng et al. 2018 (Fig. 7)"),
+    ("patch-shift", ["--guidance", "patch-shift"],
+     "the paper's patch-shift guidance, Eqs. 4-8 (the default until plain guidance, the "
+     "paper's Fig. 7 ablation, replaced it)"),
     ("update-eq9", ["--update", "eq9"], "position update of Eq. 9, no isotropic neighbourhood (Fig. 8)"),
     ("hard-subneighborhood", ["--subneighborhood", "hard", "--vote-normal-angle", "180"],
-     "the paper's Ω_i: hard labels from positions-only votes (the default before 2026-12-02)"),
+     "the paper's Ω_i: hard labels from positions-only votes (the default before e5f3331)"),
     ("whole-neighborhoods", ["--thin-part-radius", "1"],
-     "R_i of radius r everywhere, also on parts thinner than r (before 2026-12-02, session 5)"),
+     "R_i of radius r everywhere, also on parts thinner than r (before 222f0d4)"),
     ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
-                     "--thin-part-radius", "1"],
+                     "--thin-part-radius", "1", "--guidance", "patch-shift"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
@@ -344,7 +346,7 @@ def peer_args(peer, params, case, points, threads=None):
 # neighbourhood size) on this machine, measured; used only to start the longest
 # runs first, so they need not be exact.
 RUN_COST = {
-    "detexture": 0.15, "no-subneighborhood": 0.15, "plain-guidance": 0.12, "update-eq9": 0.6,
+    "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }

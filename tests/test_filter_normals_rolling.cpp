@@ -105,6 +105,7 @@ TEST(GuidanceNormals, PatchShiftPicksFlatNeighborOnOwnSide) {
     blurred.row(i) = sum.normalized();
   }
   GuidanceNormalsParams gp;
+  gp.mode = GuidanceMode::PatchShift;
   gp.blend = false;
   const Normals G = guidance_normals(s.P, blurred, R, gp);
   for (int i = 0; i < s.P.rows(); ++i) {

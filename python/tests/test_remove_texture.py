@@ -78,6 +78,7 @@ def test_keywords_take_names_and_lengths(cube):
     a = detexture.remove_texture(P, radius="0.09", update_mode="isotropic",
                                  rolling_guidance_mode="patch-shift", rolling_iterations=2)
     b = detexture.remove_texture(P, radius=0.09, update_mode=detexture.UpdateMode.Isotropic,
+                                 rolling_guidance_mode=detexture.GuidanceMode.PatchShift,
                                  rolling_iterations=2)
     assert np.array_equal(a.positions, b.positions)
     assert a.report.rolling_iterations <= 2
@@ -134,7 +135,10 @@ def test_the_gil_is_released_during_the_work(cube):
     t.start()
     time.sleep(0.01)
     start = time.perf_counter()
-    detexture.remove_texture(P, radius=0.12, threads=1)
+    # 20 rolling iterations with no early stop, so that the call lasts about
+    # twice the 0.1 s asked below on a quiet machine.
+    detexture.remove_texture(P, radius=0.15, threads=1, rolling_iterations=20,
+                             rolling_tolerance_deg=0.0)
     end = time.perf_counter()
     done.set()
     t.join()

@@ -20,33 +20,22 @@ std::size_t drop_opposite_neighbors(Neighborhoods& R, const Positions& P, const 
         "drop_opposite_neighbors: positions, normals and neighborhoods differ in size");
   if (params.max_angle_deg >= 180.0) return 0;
   const double min_cos = std::cos(params.max_angle_deg * M_PI / 180.0);
-  std::uint64_t write = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint64_t begin = R.offsets[i], end = R.offsets[i + 1];
-    R.offsets[i] = write;
+  return keep_neighbors(R, [&](std::size_t i, std::uint32_t j) {
     const double nx = N(i, 0), ny = N(i, 1), nz = N(i, 2);
-    for (std::uint64_t e = begin; e < end; ++e) {
-      const std::uint32_t j = R.indices[e];
-      const double c = nx * N(j, 0) + ny * N(j, 1) + nz * N(j, 2);
-      // A zero normal gives c = 0, kept for any angle of at least 90°; below
-      // that, only a pair with a known normal can be judged.
-      const bool judged = (nx != 0.0 || ny != 0.0 || nz != 0.0) &&
-                          (N(j, 0) != 0.0 || N(j, 1) != 0.0 || N(j, 2) != 0.0);
-      if (judged && c < min_cos) {
-        // Back to back: each lies behind the other's tangent plane.
-        const double along_i =
-            (P(j, 0) - P(i, 0)) * nx + (P(j, 1) - P(i, 1)) * ny + (P(j, 2) - P(i, 2)) * nz;
-        const double along_j = (P(j, 0) - P(i, 0)) * N(j, 0) + (P(j, 1) - P(i, 1)) * N(j, 1) +
-                               (P(j, 2) - P(i, 2)) * N(j, 2);
-        if (!params.back_to_back_only || (along_i < 0.0 && along_j > 0.0)) continue;
-      }
-      R.indices[write++] = j;
-    }
-  }
-  const std::size_t removed = R.indices.size() - write;
-  R.offsets[n] = write;
-  R.indices.resize(write);
-  return removed;
+    const double c = nx * N(j, 0) + ny * N(j, 1) + nz * N(j, 2);
+    // A zero normal gives c = 0, kept for any angle of at least 90°; below
+    // that, only a pair with a known normal can be judged.
+    const bool judged = (nx != 0.0 || ny != 0.0 || nz != 0.0) &&
+                        (N(j, 0) != 0.0 || N(j, 1) != 0.0 || N(j, 2) != 0.0);
+    if (!judged || c >= min_cos) return true;
+    if (!params.back_to_back_only) return false;
+    // Back to back: each lies behind the other's tangent plane.
+    const double along_i =
+        (P(j, 0) - P(i, 0)) * nx + (P(j, 1) - P(i, 1)) * ny + (P(j, 2) - P(i, 2)) * nz;
+    const double along_j = (P(j, 0) - P(i, 0)) * N(j, 0) + (P(j, 1) - P(i, 1)) * N(j, 1) +
+                           (P(j, 2) - P(i, 2)) * N(j, 2);
+    return !(along_i < 0.0 && along_j > 0.0);
+  });
 }
 
 }  // namespace detexture

@@ -59,19 +59,10 @@ ShrinkToThinPartsResult shrink_to_thin_parts(Neighborhoods& R, const Positions& 
   }
   out.points = cut;
   if (cut == 0) return out;
-  std::uint64_t write = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint64_t begin = R.offsets[i], end = R.offsets[i + 1];
-    R.offsets[i] = write;
-    for (std::uint64_t e = begin; e < end; ++e) {
-      const std::uint32_t j = R.indices[e];
-      const double within = std::min(radius[i], radius[j]);
-      if ((P.row(j) - P.row(i)).squaredNorm() <= within * within) R.indices[write++] = j;
-    }
-  }
-  out.removed = R.indices.size() - write;
-  R.offsets[n] = write;
-  R.indices.resize(write);
+  out.removed = keep_neighbors(R, [&](std::size_t i, std::uint32_t j) {
+    const double within = std::min(radius[i], radius[j]);
+    return (P.row(j) - P.row(i)).squaredNorm() <= within * within;
+  });
   return out;
 }
 

@@ -602,9 +602,10 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
     result.input_positions = std::move(original);
     result.texture_height *= back;
     RemoveTextureReport& r = result.report;
-    for (double* len : {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p,
-                        &r.mean_displacement, &r.texture_height, &r.max_move, &r.scale.spacing,
-                        &r.scale.noise, &r.scale.texture_radius, &r.scale.texture_height})
+    for (double* len :
+         {&r.diagonal, &r.radius, &r.lambda, &r.sigma_s, &r.sigma_p, &r.mean_displacement,
+          &r.texture_height, &r.max_move, &r.scale.spacing, &r.scale.noise, &r.scale.texture_radius,
+          &r.scale.texture_height, &r.scale.thin_radius})
       *len *= back;
     for (double& len : r.scale.radii) len *= back;
     for (double& len : r.scale.residual) len *= back;

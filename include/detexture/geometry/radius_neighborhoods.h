@@ -51,6 +51,26 @@ Neighborhoods radius_neighborhoods(const Positions& P, const RadiusNeighborhoods
 /// Throws std::invalid_argument for a negative radius or a size mismatch.
 void shrink_neighborhoods(Neighborhoods& R, const Positions& P, double radius);
 
+/// Keeps in every row of R, in place and in order, the neighbors j for which
+/// keep(i, j) is true, and returns how many entries were removed. The stages
+/// that take neighbors out of R_i (drop_opposite_neighbors,
+/// shrink_to_thin_parts) share it; a symmetric keep keeps R symmetric.
+template <class Keep>
+std::size_t keep_neighbors(Neighborhoods& R, Keep&& keep) {
+  const std::size_t n = R.size();
+  std::uint64_t write = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t begin = R.offsets[i], end = R.offsets[i + 1];
+    R.offsets[i] = write;
+    for (std::uint64_t e = begin; e < end; ++e)
+      if (keep(i, R.indices[e])) R.indices[write++] = R.indices[e];
+  }
+  const std::size_t removed = R.indices.size() - write;
+  if (n > 0) R.offsets[n] = write;
+  R.indices.resize(write);
+  return removed;
+}
+
 /// The k nearest neighbors of every point (self included), same layout.
 /// Used for orientation and for clouds too sparse for the chosen radius.
 Neighborhoods knn_neighborhoods(const Positions& P, int k, const ProgressFn& progress = {});
