@@ -96,14 +96,23 @@ TEST(EstimateTextureScale, NoiseOfKnownSigmaIsNoiseNotTexture) {
   for (double r : e.residual) EXPECT_NEAR(r, sigma, 0.15 * sigma);
 }
 
-TEST(EstimateTextureScale, BumpsOnACubeAndPlainCurvedShapes) {
+// A synth shape with texture of radius `size`, no ground truth to speak of.
+SynthParams textured(BaseShape shape, TextureKind texture, TextureLayout layout, double size,
+                     double amplitude, int points) {
   SynthParams sp;
-  sp.shape = BaseShape::Cube;
-  sp.texture = TextureKind::Bumps;
-  sp.size = 0.04;
-  sp.amplitude = 0.014;
-  sp.points = 60000;
+  sp.shape = shape;
+  sp.texture = texture;
+  sp.layout = layout;
+  sp.size = size;
+  sp.amplitude = amplitude;
+  sp.points = points;
   sp.ground_truth_points = 10;
+  return sp;
+}
+
+TEST(EstimateTextureScale, BumpsOnACubeAndPlainCurvedShapes) {
+  SynthParams sp =
+      textured(BaseShape::Cube, TextureKind::Bumps, TextureLayout::Sparse, 0.04, 0.014, 60000);
   SynthesizedShape s = synthesize_shape(sp);
   const TextureScaleEstimate e = estimate_texture_scale(s.positions, s.normals);
   ASSERT_TRUE(e.texture_found) << e.reason;
@@ -130,14 +139,8 @@ TEST(EstimateTextureScale, BumpsOnACubeAndPlainCurvedShapes) {
 // version) the tube's bend sets the radius, 2.5 R; read up to the plateau,
 // the waves do.
 TEST(EstimateTextureScale, TextureOnATubeIsReadOnItsPlateau) {
-  SynthParams sp;
-  sp.shape = BaseShape::Knot;
-  sp.texture = TextureKind::Waves;
-  sp.layout = TextureLayout::Dense;
-  sp.size = 0.02;
-  sp.amplitude = 0.006;
-  sp.points = 100000;
-  sp.ground_truth_points = 10;
+  const SynthParams sp =
+      textured(BaseShape::Knot, TextureKind::Waves, TextureLayout::Dense, 0.02, 0.006, 100000);
   const SynthesizedShape s = synthesize_shape(sp);
   const TextureScaleEstimate e = estimate_texture_scale(s.positions, s.normals);
   ASSERT_TRUE(e.texture_found) << e.reason;
