@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/types.h"
 
 namespace detexture {
@@ -45,8 +46,7 @@ ShrinkToThinPartsResult shrink_to_thin_parts(Neighborhoods& R, const Positions& 
     for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
       const Eigen::RowVector3d nj = N.row(*it), d = P.row(*it) - pi;
       // The first (nearest: rows are sorted by distance) back decides.
-      const double c = ni.dot(nj);
-      if (c < back_cos && d.dot(ni) < 0.0 && d.dot(nj) > 0.0) {
+      if (is_back_of_part(ni, nj, d, back_cos)) {
         // Straight through either side's normal: the back of a plate.
         const double through = std::max(d.dot(nj), -d.dot(ni)) / d.norm();
         if (!(params.plate_angle_deg > 0.0 && through >= plate_cos)) {

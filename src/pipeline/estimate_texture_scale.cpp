@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/geometry/point_index.h"
 #include "random.h"
 
@@ -206,8 +207,7 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
         const Eigen::RowVector3d ni = N.row(i), pi = P.row(i);
         for (const auto& [j, d2] : found) {
           const Eigen::RowVector3d nj = N.row(j), d = P.row(j) - pi;
-          if (ni.dot(nj) < thin_cos && d.dot(ni) < 0.0 && d.dot(nj) > 0.0)
-            back_sq[s] = std::min(back_sq[s], d2);
+          if (is_back_of_part(ni, nj, d, thin_cos)) back_sq[s] = std::min(back_sq[s], d2);
         }
         found.erase(std::remove_if(found.begin(), found.end(),
                                    [&](const auto& f) { return N.row(f.first).dot(ni) < 0.0; }),

@@ -43,6 +43,15 @@ struct DropOppositeNeighborsParams {
   bool back_to_back_only = true;
 };
 
+/// Whether a neighbor at offset d = p_j − p_i, with normal n_j, is the back of
+/// the part p_i (normal n_i) lies on: back to back (each behind the other's
+/// tangent plane) with n_i·n_j below `max_cos`. The test of this stage, of
+/// shrink_to_thin_parts.h and of estimate_texture_scale's thin radius.
+inline bool is_back_of_part(const Eigen::RowVector3d& ni, const Eigen::RowVector3d& nj,
+                            const Eigen::RowVector3d& d, double max_cos) {
+  return ni.dot(nj) < max_cos && d.dot(ni) < 0.0 && d.dot(nj) > 0.0;
+}
+
 /// Remove from every row of R (in place, order kept) the neighbors whose
 /// normal in N (#P by 3, unit or zero) makes more than params.max_angle_deg
 /// with the row point's normal. Pairs with a zero normal are kept (nothing
