@@ -201,6 +201,8 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
   add("  \"thin_part_points\": %zu,\n  \"thin_part_neighbors\": %zu,\n", r.thin_part_points,
       r.thin_part_neighbors);
+  add("  \"mesh_path_points\": %zu,\n  \"mesh_path_neighbors\": %zu,\n", r.mesh_path_points,
+      r.mesh_path_neighbors);
   add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
@@ -374,6 +376,11 @@ int run_detexture(int argc, char** argv) {
                  "On parts thinner than r (limbs, fingers), R_i shrinks to the distance of "
                  "the part's back, but not below this fraction of r; 1 keeps r everywhere "
                  "(the paper)")
+      ->capture_default_str();
+  app.add_option("--mesh-path-limit", params.mesh_paths.path_factor,
+                 "Meshes: R_i keeps only the neighbors an edge path of the mesh reaches "
+                 "within this multiple of r (not the next finger or a touching part); 0 "
+                 "keeps R_i Euclidean")
       ->capture_default_str();
   std::map<std::string, UnderlyingSurface> surfaces{{"plane", UnderlyingSurface::Plane},
                                                     {"quadric", UnderlyingSurface::Quadric}};
@@ -735,6 +742,9 @@ int run_detexture(int argc, char** argv) {
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());
+      if (r.mesh_path_points > 0)
+        std::fprintf(stderr, "  neighborhoods cut to the mesh's paths: %zu points (%.2f%%)\n",
+                     r.mesh_path_points, 100.0 * r.mesh_path_points / cloud.size());
       if (r.opposite_neighbors > 0)
         std::fprintf(stderr, "  neighbor pairs left out as another sheet: %zu (%.2f%%)\n",
                      r.opposite_neighbors,

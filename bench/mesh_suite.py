@@ -11,9 +11,10 @@ For every mesh case of bench/quality_suite.py's REAL_SUITE:
   2. `detexture synth --base-mesh BASE --at-vertices --no-normals` textures the
      mesh's vertices and keeps its faces (a scanned mesh: no normals), with
      the case's texture; the ground truth is the untextured base;
-  3. detexture runs twice with the suite's rule (-r 1.5R --sigma-s 1.5R):
-     `--mesh cloud` (the paper: vertices as an unconnected cloud, PCA normals)
-     and `--mesh faces` (default: normals from the faces, fold repair);
+  3. detexture runs three times with the suite's rule (-r 1.5R --sigma-s 1.5R):
+     `--mesh cloud` (the paper: vertices as an unconnected cloud, PCA normals),
+     `--mesh faces --mesh-path-limit 0` (Euclidean R_i) and `--mesh faces`
+     (default: normals from the faces, R_i along the mesh, fold repair);
   4. `detexture compare` against the ground truth, the fold and flip counts
      from --stats, and a picture (`detexture render`: input, paper, faces).
 
@@ -133,10 +134,13 @@ def main():
             store_made_by(synth, stem + ".ply")
         r = qs.RADIUS_FACTOR * case.size
         results = {"input": (stem + ".ply", None)}
-        for mode in ("cloud", "faces"):
+        for mode in ("cloud", "euclidean", "faces"):
             out = f"{stem}.{mode}.ply"
             cmd = [det, stem + ".ply", "-o", out, "-r", qs.fmt(r), "--sigma-s", qs.fmt(r),
-                   "--mesh", mode, "--stats", out[:-4] + ".json", "-f", "-q"]
+                   "--mesh", "cloud" if mode == "cloud" else "faces", "--stats",
+                   out[:-4] + ".json", "-f", "-q"]
+            if mode == "euclidean":
+                cmd += ["--mesh-path-limit", "0"]
             if not made_by(cmd, out):
                 run(cmd, out[:-4] + ".log")
                 store_made_by(cmd, out)
@@ -171,7 +175,8 @@ def report(rows):
            "The real-shape suite's meshes with the texture on their own vertices and their faces "
            "kept (`synth --at-vertices --no-normals`: a scanned mesh without normals), filtered "
            "as a cloud (`--mesh cloud`, the paper) and as a mesh (`--mesh faces`, the default: "
-           "normals from the faces, fold repair). Ground-truth errors as for the clouds "
+           "normals from the faces, R_i cut to the vertices an edge path reaches within r, "
+           "fold repair; the row `--mesh-path-limit 0` keeps R_i Euclidean). Ground-truth errors as for the clouds "
            "(`detexture compare`, relative to the diagonal d); folded = interior edges whose "
            "dihedral angle exceeds 60°; flipped = triangles whose normal turned more than 90° "
            "from the input's; p99 = 99th-percentile dihedral angle. Rerun: "
@@ -192,6 +197,7 @@ def report(rows):
                    "vertices held | seconds |")
         out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
         for key, label in (("input", "input"), ("cloud", "paper (`--mesh cloud`)"),
+                           ("euclidean", "faces, Euclidean R_i (`--mesh-path-limit 0`)"),
                            ("faces", "faces (default)")):
             e = errors[key]
             stats = results[key][1]
@@ -206,7 +212,7 @@ def report(rows):
                 edges, tris = m["edges"], m["triangles"]
                 f = m["output"]
                 folded, flipped, p99 = f["folded_edges"], f["flipped_triangles"], f["p99_dihedral_deg"]
-                held = m["vertices_held"] if key == "faces" else "-"
+                held = m["vertices_held"] if key != "cloud" else "-"
                 secs = f"{stats['seconds']['total']:.1f}"
             angle = ("-" if e["normal_angle_mean_degrees"] is None
                      else f"{e['normal_angle_mean_degrees']:.1f}")

@@ -98,6 +98,9 @@ TEST_F(CliMesh, ThePaperModeTreatsTheVerticesAsACloudAndReportsItsFolds) {
   EXPECT_EQ(stderr_.find("normals from the faces"), std::string::npos) << stderr_;
   EXPECT_NE(stderr_.find("edges folded past 60°"), std::string::npos) << stderr_;
   EXPECT_EQ(run(path("in.ply") + " -o " + path("out2.ply") + " --mesh nonsense"), 2);
+  // A path limit below r would cut even the nearest rim of every R_i.
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("out2.ply") + " -r 0.06 --mesh-path-limit 0.5"), 2);
+  EXPECT_NE(stderr_.find("mesh path limit"), std::string::npos) << stderr_;
 }
 
 TEST(RemoveTextureMesh, FacesGiveTheNormalsAndBoundTheUpdate) {
@@ -116,6 +119,47 @@ TEST(RemoveTextureMesh, FacesGiveTheNormalsAndBoundTheUpdate) {
   // The input normals are the faces' (up, on this height field).
   for (Eigen::Index i = 0; i < r.input_normals.rows(); ++i)
     ASSERT_GT(r.input_normals(i, 2), 0.9) << i;
+}
+
+// Two sheets 0.03 apart, both facing up, closer than r: the bumpy grid above
+// a flat copy of it. Along the mesh they never meet, so the flat sheet's
+// neighborhoods hold only itself and it stays exactly where it is; with
+// Euclidean R_i (path limit 0) the bumps above reach it and move it.
+TEST(RemoveTextureMesh, NeighborhoodsFollowTheMeshNotTheNextSheet) {
+  const PointCloud top = bumpy_mesh();
+  const Eigen::Index n = top.positions.rows();
+  Positions P(2 * n, 3);
+  P.topRows(n) = top.positions;
+  P.bottomRows(n) = top.positions;
+  P.bottomRows(n).col(2).setConstant(-0.03);
+  const FaceList one = face_list(top);
+  FaceList both;
+  for (int copy = 0; copy < 2; ++copy)
+    for (std::size_t f = 0; f < one.size(); ++f) {
+      std::uint32_t t[3];
+      for (int k = 0; k < 3; ++k)
+        t[k] = one.indices[one.offsets[f] + k] + static_cast<std::uint32_t>(copy * n);
+      both.add(t, 3);
+    }
+  RemoveTextureParams params;
+  params.radius = {0.06, Length::Unit::Absolute};
+  const auto lowest_move = [&](const RemoveTextureResult& r) {
+    double most = 0.0;
+    for (Eigen::Index i = n; i < 2 * n; ++i)
+      most = std::max(most, std::abs(r.positions(i, 2) + 0.03));
+    return most;
+  };
+  const RemoveTextureResult along = remove_texture(P, Normals(), both, params);
+  EXPECT_EQ(along.report.mesh_path_points, static_cast<std::size_t>(2 * n));
+  EXPECT_LT(lowest_move(along), 1e-12);
+  params.mesh_paths.path_factor = 0.0;
+  const RemoveTextureResult euclidean = remove_texture(P, Normals(), both, params);
+  EXPECT_EQ(euclidean.report.mesh_path_points, 0u);
+  EXPECT_GT(lowest_move(euclidean), 1e-3);
+  // The paper's mode treats the vertices as a cloud: no path limit.
+  params.mesh_paths.path_factor = 1.0;
+  params.use_faces = false;
+  EXPECT_EQ(remove_texture(P, Normals(), both, params).report.mesh_path_points, 0u);
 }
 
 }  // namespace

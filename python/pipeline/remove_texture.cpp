@@ -260,6 +260,8 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(opposite_neighbors);
   DETEXTURE_REPORT(thin_part_points);
   DETEXTURE_REPORT(thin_part_neighbors);
+  DETEXTURE_REPORT(mesh_path_points);
+  DETEXTURE_REPORT(mesh_path_neighbors);
   DETEXTURE_REPORT(texture_points);
   DETEXTURE_REPORT(no_plane);
   DETEXTURE_REPORT(ransac_mean_iterations);

@@ -105,6 +105,9 @@ void validate(const RemoveTextureParams& p) {
   ShrinkToThinPartsParams thin = p.thin_parts;
   thin.radius = 1.0;
   validate(thin);
+  LimitNeighborhoodsToMeshParams paths = p.mesh_paths;
+  paths.radius = 1.0;
+  validate(paths);
   UpdatePositionsParams u = p.update;
   u.sigma_p = 1.0;
   u.solve_radius = 1.0;
@@ -212,6 +215,7 @@ void check_memory(const Positions& P, const RemoveTextureParams& params, RemoveT
 
 // The method on points already in spatial order (see remove_texture).
 RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
+                                           const TriangleIndices& T,
                                            const RemoveTextureParams& params,
                                            const PipelineObserver& observer,
                                            RemoveTextureResult result) {
@@ -335,6 +339,14 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.thin_part_points = thin.points;
     rep.thin_part_neighbors = thin.removed;
     rep.opposite_neighbors = drop_opposite_neighbors(R, P, result.input_normals, params.sheets);
+  }
+  if (T.rows() != 0 && params.mesh_paths.path_factor > 0.0) {
+    StageClock clock(observer, rep, "follow the mesh");
+    LimitNeighborhoodsToMeshParams mp = params.mesh_paths;
+    mp.radius = rep.radius;
+    const LimitNeighborhoodsToMeshResult kept = limit_neighborhoods_to_mesh(R, P, T, mp);
+    rep.mesh_path_points = kept.points;
+    rep.mesh_path_neighbors = kept.removed;
   }
 
   std::vector<float> omega;  // membership of Ω, for the filters
@@ -470,14 +482,29 @@ RemoveTextureParams scaled_lengths(RemoveTextureParams p, int shift) {
   return p;
 }
 
-RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
+RemoveTextureResult remove_texture_unique(Positions P, Normals normals, TriangleIndices T,
                                           const RemoveTextureParams& params,
                                           const PipelineObserver& observer);
+
+// remove_texture on a cloud, or on a mesh's vertices when T (#T by 3, may be
+// empty) gives its triangles.
+RemoveTextureResult remove_texture_vertices(Positions P, Normals normals, TriangleIndices T,
+                                            const RemoveTextureParams& params,
+                                            const PipelineObserver& observer);
 
 }  // namespace
 
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
+  return remove_texture_vertices(std::move(P), std::move(normals), TriangleIndices(), params,
+                                 observer);
+}
+
+namespace {
+
+RemoveTextureResult remove_texture_vertices(Positions P, Normals normals, TriangleIndices T,
+                                            const RemoveTextureParams& params,
+                                            const PipelineObserver& observer) {
   validate(params);
   const ScopedThreads threads(params.threads);
   const std::size_t n = static_cast<std::size_t>(P.rows());
@@ -517,7 +544,11 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTex
       }
     }
     Normals input_normals = std::move(normals);
-    RemoveTextureResult u = remove_texture_unique(std::move(UP), std::move(UN), params, observer);
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      for (int k = 0; k < 3; ++k)
+        T(t, k) = static_cast<std::int32_t>(unique_index[static_cast<std::size_t>(T(t, k))]);
+    RemoveTextureResult u =
+        remove_texture_unique(std::move(UP), std::move(UN), std::move(T), params, observer);
     RemoveTextureResult result;
     result.report = std::move(u.report);
     result.report.duplicates_merged = n - unique_rows.size();
@@ -545,12 +576,10 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTex
     result.input_positions = std::move(P);
     return result;
   }
-  return remove_texture_unique(std::move(P), std::move(normals), params, observer);
+  return remove_texture_unique(std::move(P), std::move(normals), std::move(T), params, observer);
 }
 
-namespace {
-
-RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
+RemoveTextureResult remove_texture_unique(Positions P, Normals normals, TriangleIndices T,
                                           const RemoveTextureParams& original_params,
                                           const PipelineObserver& observer) {
   const std::size_t n = static_cast<std::size_t>(P.rows());
@@ -585,9 +614,16 @@ RemoveTextureResult remove_texture_unique(Positions P, Normals normals,
     if (normals.rows() != 0) ordered_N = permute_rows(normals, order);
     P = Positions();  // the ordered copies hold them now
     normals = Normals();
+    if (T.rows() != 0) {
+      std::vector<std::uint32_t> rank(order.size());
+      for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
+      for (Eigen::Index t = 0; t < T.rows(); ++t)
+        for (int k = 0; k < 3; ++k)
+          T(t, k) = static_cast<std::int32_t>(rank[static_cast<std::size_t>(T(t, k))]);
+    }
   }
-  result =
-      remove_texture_ordered(ordered_P, std::move(ordered_N), params, observer, std::move(result));
+  result = remove_texture_ordered(ordered_P, std::move(ordered_N), T, params, observer,
+                                  std::move(result));
   result.positions = unpermute_rows(result.positions, order);
   result.normals = unpermute_rows(result.normals, order);
   result.input_normals = unpermute_rows(result.input_normals, order);
@@ -637,7 +673,9 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList&
       from_faces = true;
     }
   }
-  RemoveTextureResult result = remove_texture(std::move(P), std::move(normals), params, observer);
+  // The paper's mode (use_faces false) treats the vertices as a cloud.
+  RemoveTextureResult result = remove_texture_vertices(
+      std::move(P), std::move(normals), params.use_faces ? T : TriangleIndices(), params, observer);
   RemoveTextureReport& rep = result.report;
   rep.mesh = true;
   rep.normals_from_faces = from_faces;

@@ -16,6 +16,7 @@
 #include "detexture/geometry/drop_opposite_neighbors.h"
 #include "detexture/geometry/estimate_neighborhoods_memory.h"
 #include "detexture/geometry/face_normals.h"
+#include "detexture/geometry/limit_neighborhoods_to_mesh.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/geometry/shrink_to_thin_parts.h"
 #include "detexture/pipeline/detect_texture.h"
@@ -119,6 +120,11 @@ struct RemoveTextureParams {
   /// the part's back, but not below min_radius_fraction × r
   /// (shrink_to_thin_parts.h; 1 = the paper). Its radius is filled from r.
   ShrinkToThinPartsParams thin_parts;
+  /// Meshes (the overload with faces, use_faces true): R_i keeps only the
+  /// neighbors an edge path reaches within path_factor × r
+  /// (limit_neighborhoods_to_mesh.h; 0 keeps R_i Euclidean). Its radius is
+  /// filled from r.
+  LimitNeighborhoodsToMeshParams mesh_paths;
   DetectTextureParams texture;           ///< δ, confidence, RANSAC cap, seed (λ from above)
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
@@ -186,6 +192,8 @@ struct RemoveTextureReport {
   std::size_t opposite_neighbors = 0;      ///< (i, j) pairs dropped as another sheet
   std::size_t thin_part_points = 0;        ///< points whose R_i shrank to a thin part
   std::size_t thin_part_neighbors = 0;     ///< (i, j) entries that left R_i with it
+  std::size_t mesh_path_points = 0;        ///< points whose R_i lost vertices far along the mesh
+  std::size_t mesh_path_neighbors = 0;     ///< (i, j) entries that left R_i with them
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;
   double ransac_mean_iterations = 0.0;
