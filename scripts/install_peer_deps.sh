@@ -9,6 +9,7 @@
 #   assimp-testmodels         the real base meshes of bench/quality_real (/usr/share/assimp/models)
 #   pcl-tools                 pcl_pcd2ply / pcl_ply2pcd, for tests/test_pcd_pcl.cpp (our PCD
 #                             files against PCL's; the test is skipped without them)
+#   python3-numpy python3-scipy  bench/normals_from_positions.py (k-d tree, eigenvectors)
 # Run as root (or with sudo available). Non-interactive and idempotent: running it
 # again installs nothing new.
 set -euo pipefail
@@ -41,6 +42,8 @@ PACKAGES=(
   libassimp-dev
   assimp-testmodels
   pcl-tools
+  python3-numpy
+  python3-scipy
 )
 
 $SUDO apt-get update
