@@ -177,7 +177,8 @@ def report(rows):
            "as a cloud (`--mesh cloud`, the paper) and as a mesh (`--mesh faces`, the default: "
            "normals from the faces, R_i cut to the vertices an edge path reaches within r, "
            "fold repair; the row `--mesh-path-limit 0` keeps R_i Euclidean). Ground-truth errors as for the clouds "
-           "(`detexture compare`, relative to the diagonal d); folded = interior edges whose "
+           "(`detexture compare`, relative to the diagonal d; residual texture = standard "
+           "deviation of the signed distance, the texture and noise left); folded = interior edges whose "
            "dihedral angle exceeds 60°; flipped = triangles whose normal turned more than 90° "
            "from the input's; p99 = 99th-percentile dihedral angle. Rerun: "
            "`bench/mesh_suite.py BUILD --peers-build PEERS_BUILD --write`. Pictures (not "
@@ -193,9 +194,9 @@ def report(rows):
                    (" The suite's noise is left out (at-vertices meshes are clean)."
                     if case.noise > 0 else ""))
         out.append("")
-        out.append("| mesh | Dmean | Dmax | normal error ° | folded | flipped | p99 dihedral ° | "
-                   "vertices held | seconds |")
-        out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+        out.append("| mesh | Dmean | Dmax | residual texture | normal error ° | folded | flipped | "
+                   "p99 dihedral ° | vertices held | seconds |")
+        out.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
         for key, label in (("input", "input"), ("cloud", "paper (`--mesh cloud`)"),
                            ("euclidean", "faces, Euclidean R_i (`--mesh-path-limit 0`)"),
                            ("faces", "faces (default)")):
@@ -217,7 +218,7 @@ def report(rows):
             angle = ("-" if e["normal_angle_mean_degrees"] is None
                      else f"{e['normal_angle_mean_degrees']:.1f}")
             out.append(f"| {label} | {e['dmean_relative']:.5f} | {e['dmax_relative']:.5f} | "
-                       f"{angle} | {share(folded, edges)} | "
+                       f"{e['signed_std_relative']:.5f} | {angle} | {share(folded, edges)} | "
                        f"{share(flipped, tris)} | {p99:.1f} | {held} | {secs} |")
         out.append("")
     return "\n".join(out) + "\n"
