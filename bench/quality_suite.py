@@ -1237,11 +1237,20 @@ def main():
                    help="skip the before/after pictures (drawn only when the build has `detexture render`)")
     q.add_argument("--jobs", type=int, default=2,
                    help="runs at a time, 1 thread each, longest first (default 2: the machine's cores)")
+    q.add_argument("--variant", action="append", default=[], metavar="NAME=OPTIONS",
+                   help="an extra detexture row: the suite's rule plus OPTIONS (e.g. "
+                        "anchor01='--anchor-surface 0.1'), to measure a method change on both "
+                        "suites before it lands; repeatable; combine with --methods and --no-results")
     t.add_argument("--points", type=int, default=TUNE_POINTS, help=f"points per case (default {TUNE_POINTS})")
     t.add_argument("--peers", help="comma-separated subset of peers")
     t.add_argument("--jobs", type=int, default=2, help="runs at a time, 1 thread each (default 2)")
     args = ap.parse_args()
     if args.command == "quality":
+        for v in args.variant:
+            name, sep, options = v.partition("=")
+            if not sep or not name or name in {m[0] for m in DETEXTURE_VARIANTS} or "/" in name:
+                sys.exit(f"error: --variant wants NAME=OPTIONS with a new NAME, got {v!r}")
+            DETEXTURE_VARIANTS.append((name, shlex.split(options), "given with --variant"))
         quality(args)
     else:
         tune(args)
