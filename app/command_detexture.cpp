@@ -471,6 +471,11 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--anchor-surface", params.update.anchor_surface,
                  "Global update: how strongly underlying-surface points keep their place")
       ->capture_default_str();
+  app.add_option("--anchor-height", params.anchor_height,
+                 "Global update: surface points are held at their place less the farther they "
+                 "sit from the surface fitted to their neighborhood (noise, wave flanks), with "
+                 "a Gaussian fall-off of this multiple of λ; 0 holds them all fully")
+      ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
       ->capture_default_str();

@@ -102,8 +102,10 @@ TEST(RemoveTextureHostile, ExtremeScalesGiveTheScaledResult) {
   // Not a power of two: the same answer to rounding. Rounding can flip a
   // vote of Eq. 2 whose distance sits at λ; with the soft Ω (the default)
   // that shifts the neighbor's weight by one vote share, and the points near
-  // it by ~1e-5 of the unit cloud (the bumps are 0.03 high), where the hard
-  // labels rarely change.
+  // it by ~1e-5 of the unit cloud (the bumps are 0.03 high). The hard labels
+  // rarely change, but the global update's anchors follow each point's
+  // height above its nearest RANSAC model (anchor_height), and rounding can
+  // change which model that is: 2.7e-5 measured, within the soft Ω's bound.
   const RemoveTextureResult big = remove_texture(s.P * 1e300, s.N, p);
   EXPECT_LT(((big.positions / 1e300) - unit.positions).cwiseAbs().maxCoeff(), 5e-5);
   const RemoveTextureResult tiny = remove_texture(s.P * 1e-300, s.N, p);
@@ -111,7 +113,11 @@ TEST(RemoveTextureHostile, ExtremeScalesGiveTheScaledResult) {
   p.texture.subneighborhood = SubneighborhoodMode::Hard;
   const RemoveTextureResult unit_hard = remove_texture(s.P, s.N, p);
   const RemoveTextureResult big_hard = remove_texture(s.P * 1e300, s.N, p);
-  EXPECT_LT(((big_hard.positions / 1e300) - unit_hard.positions).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT(((big_hard.positions / 1e300) - unit_hard.positions).cwiseAbs().maxCoeff(), 5e-5);
+  p.anchor_height = 0.0;  // anchors by label alone: the hard labels' answer to 1e-6
+  const RemoveTextureResult unit_held = remove_texture(s.P, s.N, p);
+  const RemoveTextureResult big_held = remove_texture(s.P * 1e300, s.N, p);
+  EXPECT_LT(((big_held.positions / 1e300) - unit_held.positions).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 // All-zero input normals (the reader zeroes NaN ones) were kept zero; now

@@ -48,6 +48,40 @@ TEST(UpdatePositions, GlobalPutsBumpBackOnPlane) {
   EXPECT_LT((global.positions.leftCols(2) - s.P.leftCols(2)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// A noisy plane whose points all count as surface (the noise is below λ):
+// anchored fully, every point keeps most of its noise; with the anchors
+// falling off with the height above the fitted surface, the noisy points
+// settle closer to the plane. On a clean plane both are exact.
+TEST(UpdatePositions, AnchorsFallOffWithTheHeightAboveTheFittedSurface) {
+  auto [s, R, det, up, params] = bump_case(61);
+  Positions noisy = s.P;
+  noisy.col(2).setZero();
+  std::vector<float> height(static_cast<std::size_t>(noisy.rows()));
+  for (Eigen::Index i = 0; i < noisy.rows(); ++i) {
+    // ±0.001 in a checkerboard: every point 0.001 off the plane z = 0.
+    noisy(i, 2) = ((i + i / 61) % 2 == 0 ? 1.0 : -1.0) * 0.001;
+    height[static_cast<std::size_t>(i)] = 0.001f;
+  }
+  const std::vector<std::uint8_t> surface(static_cast<std::size_t>(noisy.rows()), 0);
+  const auto rms = [](const Positions& Q) {
+    return std::sqrt(Q.col(2).squaredNorm() / static_cast<double>(Q.rows()));
+  };
+  const double held = rms(update_positions(noisy, up, R, surface, height, params).positions);
+  params.anchor_height = 0.0005;  // the points sit 2 s off: weight e^-2 of the full anchor
+  const double freed = rms(update_positions(noisy, up, R, surface, height, params).positions);
+  EXPECT_GT(held, 0.3e-3);  // anchored fully: about half the noise stays
+  EXPECT_LT(freed, 0.5 * held);
+  // A clean plane (height 0 everywhere) does not move, whatever the scale.
+  Positions flat = noisy;
+  flat.col(2).setZero();
+  const std::vector<float> zero(height.size(), 0.0f);
+  EXPECT_LT(
+      update_positions(flat, up, R, surface, zero, params).positions.col(2).cwiseAbs().maxCoeff(),
+      1e-15);
+  // The heights are required when the anchors fall off.
+  EXPECT_THROW(update_positions(noisy, up, R, surface, {}, params), std::invalid_argument);
+}
+
 // The move limit cuts every move longer than it to its length, along the
 // same direction, and counts those points; shorter moves are untouched.
 TEST(UpdatePositions, MoveLimitCutsLongMovesOnly) {

@@ -88,6 +88,9 @@ void validate(const RemoveTextureParams& p) {
   if (!(p.move_limit >= 0.0) || !std::isfinite(p.move_limit))
     throw std::invalid_argument("the move limit must be >= 0 (0 for none), got " +
                                 number_text(p.move_limit));
+  if (!(p.anchor_height >= 0.0) || !std::isfinite(p.anchor_height))
+    throw std::invalid_argument("the anchor height must be >= 0 (a multiple of lambda), got " +
+                                number_text(p.anchor_height));
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
   if (p.threads < 0)
@@ -349,7 +352,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.mesh_path_neighbors = kept.removed;
   }
 
-  std::vector<float> omega;  // membership of Ω, for the filters
+  std::vector<float> omega;           // membership of Ω, for the filters
+  std::vector<float> surface_height;  // of each point above its own fitted surface
   {
     StageClock clock(observer, rep, "detect texture");
     DetectTextureParams tp = params.texture;
@@ -366,7 +370,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     std::vector<float> heights;
     for (std::size_t i = 0; i < n; ++i)
       if (result.is_texture[i]) heights.push_back(det.height[i]);
-    if (heights.empty()) heights.swap(det.height);
+    if (heights.empty()) heights = det.height;
+    if (params.anchor_height > 0.0) surface_height = std::move(det.height);
     if (!heights.empty()) {
       const std::size_t at = (heights.size() - 1) * 99 / 100;
       std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(at),
@@ -400,6 +405,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     UpdatePositionsParams up = params.update;
     up.sigma_p = rep.sigma_p;
     up.max_move = rep.max_move;
+    up.anchor_height = params.anchor_height * rep.lambda;
     up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
     // The global solve reads only the part of R_i within the solve radius:
     // keep that part alone, so the solve's coefficients take the place of the
@@ -407,7 +413,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
       shrink_neighborhoods(R, P, up.solve_radius);
     UpdatePositionsResult u =
-        update_positions(P, filtered, R, result.is_texture, up, clock.progress());
+        update_positions(P, filtered, R, result.is_texture, surface_height, up, clock.progress());
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;

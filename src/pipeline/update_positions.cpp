@@ -22,6 +22,9 @@ void validate(const UpdatePositionsParams& p) {
     throw std::invalid_argument("the surface anchor weight cannot be negative");
   if (!(p.anchor_texture > 0.0))
     throw std::invalid_argument("the texture anchor weight must be positive");
+  if (!(p.anchor_height >= 0.0) || !std::isfinite(p.anchor_height))
+    throw std::invalid_argument("the anchor height scale must be >= 0, got " +
+                                number_text(p.anchor_height));
   if (!(p.solve_radius >= 0.0)) throw std::invalid_argument("the solve radius cannot be negative");
   if (p.max_iterations < 1)
     throw std::invalid_argument("the position update needs at least one iteration");
@@ -93,6 +96,7 @@ UpdatePositionsResult update_local(const Positions& P, const Normals& N, const N
 // symmetric, so the matrix is too.
 UpdatePositionsResult update_global(const Positions& P, const Normals& N, const Neighborhoods& R,
                                     const std::vector<std::uint8_t>& is_texture,
+                                    const std::vector<float>& height,
                                     const UpdatePositionsParams& params,
                                     const ProgressFn& progress) {
   const std::size_t n = R.size();
@@ -134,7 +138,14 @@ UpdatePositionsResult update_global(const Positions& P, const Normals& N, const 
       off_diag[e] = static_cast<float>(-w * a * b);
       b_i -= w * a * c;
     }
-    const double beta = is_texture[i] ? params.anchor_texture : params.anchor_surface;
+    double beta = is_texture[i] ? params.anchor_texture : params.anchor_surface;
+    if (!is_texture[i] && params.anchor_height > 0.0) {
+      // A surface point off its own fitted surface (noise, the flank of a
+      // wave) is held less: its input position is not the surface either.
+      const double q = height[i] / params.anchor_height;
+      beta = params.anchor_texture +
+             (params.anchor_surface - params.anchor_texture) * std::exp(-0.5 * q * q);
+    }
     if (data <= 0.0) {
       ++isolated;
       data = 1.0;  // decoupled row: t_i = 0, the point stays
@@ -231,14 +242,28 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
                                        const std::vector<std::uint8_t>& is_texture,
                                        const UpdatePositionsParams& params,
                                        const ProgressFn& progress) {
+  return update_positions(P, filtered, R, is_texture, {}, params, progress);
+}
+
+UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
+                                       const Neighborhoods& R,
+                                       const std::vector<std::uint8_t>& is_texture,
+                                       const std::vector<float>& height,
+                                       const UpdatePositionsParams& params,
+                                       const ProgressFn& progress) {
   validate(params);
   if (static_cast<std::size_t>(P.rows()) != R.size() || filtered.rows() != P.rows())
     throw std::invalid_argument(
         "update_positions: positions, normals and neighborhoods differ in size");
+  if (params.mode == UpdateMode::Global && params.anchor_height > 0.0 &&
+      height.size() != static_cast<std::size_t>(P.rows()))
+    throw std::invalid_argument(
+        "update_positions: anchor_height needs the height of every point (" +
+        std::to_string(P.rows()) + "), got " + std::to_string(height.size()));
   UpdatePositionsResult out;
   switch (params.mode) {
     case UpdateMode::Global:
-      out = update_global(P, filtered, R, is_texture, params, progress);
+      out = update_global(P, filtered, R, is_texture, height, params, progress);
       break;
     case UpdateMode::Isotropic:
       out = update_local(P, filtered, R, params, true, progress);

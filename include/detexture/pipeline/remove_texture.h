@@ -100,6 +100,12 @@ struct RemoveTextureParams {
   /// (limb tips) could be carried 3-4 times the texture's height off the
   /// surface by the global update.
   double move_limit = 1.5;
+  /// Global update: surface points are anchored at their input positions
+  /// less the farther they sit from the surface fitted to their own
+  /// neighborhood (Eq. 2's models): by exp(-h²/(2 s²)) with s this multiple
+  /// of λ (update_positions.h). Noise and the flanks of waves then leave
+  /// with the texture. 0 anchors every surface point fully (before session 6).
+  double anchor_height = 0.5;
   /// Keep at most this many nearest neighbors in R_i (0 = all).
   int max_neighbors = 0;
   /// Neighbors used to estimate and orient normals when the input has none.

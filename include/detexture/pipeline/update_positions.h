@@ -55,6 +55,13 @@ struct UpdatePositionsParams {
   /// Global: anchor weight of texture points, relative; > 0 (keeps the
   /// problem well posed where no underlying surface is near).
   double anchor_texture = 1e-4;
+  /// Global: scale s of the surface anchors' fall-off, in the cloud's units;
+  /// ≥ 0. A surface point at height h above the surface fitted to its own
+  /// neighborhood (detect_texture's height: noise, the flank of a wave) is
+  /// anchored with anchor_texture + (anchor_surface - anchor_texture) ·
+  /// exp(-h² / (2 s²)), since its input position is not the surface either.
+  /// 0 anchors every surface point fully. remove_texture sets it from λ.
+  double anchor_height = 0.0;
   /// Global: only members of Ψ_i closer than this take part in the solve, in
   /// the cloud's units; 0 uses all of R_i.
   double solve_radius = 0.0;
@@ -84,6 +91,16 @@ struct UpdatePositionsResult {
 UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
                                        const Neighborhoods& R,
                                        const std::vector<std::uint8_t>& is_texture,
+                                       const UpdatePositionsParams& params,
+                                       const ProgressFn& progress = {});
+
+/// The same with the height of every point above the surface fitted to its
+/// own neighborhood (#P, TextureDetection::height), which Global needs when
+/// params.anchor_height > 0 (throws std::invalid_argument if missing).
+UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
+                                       const Neighborhoods& R,
+                                       const std::vector<std::uint8_t>& is_texture,
+                                       const std::vector<float>& height,
                                        const UpdatePositionsParams& params,
                                        const ProgressFn& progress = {});
 
