@@ -29,12 +29,7 @@ std::size_t drop_opposite_neighbors(Neighborhoods& R, const Positions& P, const 
                         (N(j, 0) != 0.0 || N(j, 1) != 0.0 || N(j, 2) != 0.0);
     if (!judged || c >= min_cos) return true;
     if (!params.back_to_back_only) return false;
-    // Back to back: each lies behind the other's tangent plane.
-    const double along_i =
-        (P(j, 0) - P(i, 0)) * nx + (P(j, 1) - P(i, 1)) * ny + (P(j, 2) - P(i, 2)) * nz;
-    const double along_j = (P(j, 0) - P(i, 0)) * N(j, 0) + (P(j, 1) - P(i, 1)) * N(j, 1) +
-                           (P(j, 2) - P(i, 2)) * N(j, 2);
-    return !(along_i < 0.0 && along_j > 0.0);
+    return !is_back_of_part(N.row(i), N.row(j), P.row(j) - P.row(i), min_cos);
   });
 }
 

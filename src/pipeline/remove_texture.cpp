@@ -371,7 +371,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     for (std::size_t i = 0; i < n; ++i)
       if (result.is_texture[i]) heights.push_back(det.height[i]);
     if (heights.empty()) heights = det.height;
-    if (params.anchor_height > 0.0) surface_height = std::move(det.height);
+    if (params.anchor_height > 0.0 && params.update.mode == UpdateMode::Global)
+      surface_height = std::move(det.height);  // only the global update reads it
     if (!heights.empty()) {
       const std::size_t at = (heights.size() - 1) * 99 / 100;
       std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(at),

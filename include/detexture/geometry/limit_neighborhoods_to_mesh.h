@@ -12,14 +12,15 @@
 // smaller). Path lengths are symmetric, so a symmetric R stays symmetric.
 //
 // Measured on bench/mesh_suite.py's five meshes (r = 1.5 R, against
-// Euclidean R_i): residual texture −13% and normal error −8% on the spider
-// (legs are separate parts that pierce the body), −7% / −4% on the bull,
-// −3% / −5% on the engine block, −2% / −1% on the person and the duck; Dmax
-// 7-21% lower on four of them. Against Euclidean R_i of radius 0.9 r (as
+// Euclidean R_i; bench/RESULTS.md, run of 2026-12-02 09:29): residual texture
+// −15% and normal error −10% on the spider (legs are separate parts that
+// pierce the body), −8% / −4% on the bull, −4% / −4% on the engine block,
+// −2% / −1% on the person, 0% / −1% on the duck; Dmax 8-21% lower on the
+// spider, the bull and the engine. Against Euclidean R_i of radius 0.9 r (as
 // small as the disks) the person and the duck are the same, so their gain is
-// the size; the spider (−12% / −8%), the bull and the engine keep theirs.
-// Limits of 1.2 and 1.5 r gained less, and letting paths leave R_i's ball
-// cost twice the time.
+// the size; the spider, the bull and the engine keep theirs. Limits of 1.2
+// and 1.5 r gained less, and letting paths leave R_i's ball cost twice the
+// time.
 #pragma once
 
 #include <cstddef>
