@@ -205,6 +205,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.mesh_path_neighbors);
   add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
       r.texture_height, r.max_move, r.moves_limited);
+  add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
       r.ransac_mean_iterations);
   add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
@@ -475,6 +476,27 @@ int run_detexture(int argc, char** argv) {
                  "Global update: surface points are held at their place less the farther they "
                  "sit from the surface fitted to their neighborhood (noise, wave flanks), with "
                  "a Gaussian fall-off of this multiple of λ; 0 holds them all fully")
+      ->capture_default_str();
+  std::map<std::string, bool> output_normal_modes{{"fitted", true}, {"filtered", false}};
+  app.add_option("--output-normals", params.output_normals.enabled,
+                 "Clouds: filtered (the paper: the filtered normals, smoothed at σs) or fitted "
+                 "(the normals of the output surface: a weighted plane fit to the output "
+                 "points, guided by the filtered normals; better on smooth or faceted shapes "
+                 "with sparse features, worse where dense waves or grooves remain). Meshes "
+                 "take theirs from the output's faces")
+      ->transform(CLI::CheckedTransformer(output_normal_modes, CLI::ignore_case).description(""))
+      ->type_name("MODE")
+      ->default_str(params.output_normals.enabled ? "fitted" : "filtered");
+  add_length(app, "--fit-sigma", params.fit_sigma,
+             "Fitted output normals: spatial scale of the fit's weights (neighbors within "
+             "--solve-radius take part)");
+  app.add_option("--fit-range-sigma", params.output_normals.range_sigma,
+                 "Fitted output normals: range scale on 1 - cos of the angle between filtered "
+                 "normals; smaller keeps the fit closer to one side of a crease")
+      ->capture_default_str();
+  app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
+                 "Fitted output normals: a fit turning farther than this from the filtered "
+                 "normal (degrees) is not taken")
       ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")

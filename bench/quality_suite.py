@@ -249,6 +249,9 @@ DETEXTURE_VARIANTS = [
     ("full-anchors", ["--anchor-height", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
      "a wave's flank (before session 6)"),
+    ("fitted-normals", ["--output-normals", "fitted"],
+     "output normals fitted to the output positions (fit_normals_to_positions.h; an option, "
+     "not the default)"),
     ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
 
@@ -351,7 +354,7 @@ def peer_args(peer, params, case, points, threads=None):
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
-    "full-anchors": 0.15,
+    "full-anchors": 0.15, "fitted-normals": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

@@ -183,10 +183,27 @@ TEST_F(Cli, NeverOverwritesWithoutAsking) {
   EXPECT_EQ(run(path("in.ply") + " -o " + path("taken.ply") + " -r 0.2 --force"), 0);
 }
 
+TEST_F(Cli, FittedOutputNormalsChangeOnlyTheNormals) {
+  write_point_cloud(path("in.ply"), bumpy(true));
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("a.ply") + " -r 0.2"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("b.ply") + " -r 0.2 --output-normals fitted" +
+                " --stats " + path("b.json")),
+            0)
+      << stderr_;
+  const PointCloud a = read_point_cloud(path("a.ply")), b = read_point_cloud(path("b.ply"));
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_NE(a.normals, b.normals);
+  std::ifstream stats(path("b.json"));
+  const std::string json((std::istreambuf_iterator<char>(stats)), {});
+  EXPECT_NE(json.find("\"normals_not_fitted\": "), std::string::npos) << json;
+}
+
 TEST_F(Cli, BadParametersAreUsageErrors) {
   write_point_cloud(path("in.ply"), bumpy(true));
-  for (const char* args : {"--delta 2", "--radius abc", "--radius -1", "--sigma-r 0",
-                           "--update sideways", "--planes 4", "--threads -1", "--bogus"}) {
+  for (const char* args :
+       {"--delta 2", "--radius abc", "--radius -1", "--sigma-r 0", "--update sideways",
+        "--planes 4", "--threads -1", "--bogus", "--output-normals smooth", "--fit-sigma 0",
+        "--fit-max-turn 0", "--fit-range-sigma -1"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

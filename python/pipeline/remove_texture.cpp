@@ -273,6 +273,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(texture_height);
   DETEXTURE_REPORT(max_move);
   DETEXTURE_REPORT(moves_limited);
+  DETEXTURE_REPORT(normals_not_fitted);
   DETEXTURE_REPORT(duplicates_merged);
   DETEXTURE_REPORT(estimated_bytes);
 #undef DETEXTURE_REPORT

@@ -84,6 +84,21 @@ def test_keywords_take_names_and_lengths(cube):
     assert a.report.rolling_iterations <= 2
 
 
+def test_fitted_output_normals_match_the_command_line(cube, work):
+    out = work / "fitted.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--output-normals", "fitted", "--fit-sigma", "0.25r",
+            "-q", "--force")
+    cloud = detexture.read_point_cloud(cube)
+    P = cloud.positions
+    r = detexture.remove_texture(cloud, radius=0.09, output_normals_enabled=True, fit_sigma="0.25r")
+    plain = detexture.remove_texture(cloud, radius=0.09)
+    cli = detexture.read_point_cloud(out)
+    assert np.array_equal(cli.normals, r.normals)
+    assert np.array_equal(plain.positions, r.positions)
+    assert not np.array_equal(plain.normals, r.normals)
+    assert r.report.normals_not_fitted < len(P) // 100
+
+
 def cli_error(*args):
     r = run_cli(*args, check=False)
     assert r.returncode != 0

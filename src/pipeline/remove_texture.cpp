@@ -55,6 +55,7 @@ void validate(const RemoveTextureParams& p) {
                                   {"sigma_s", p.sigma_s},
                                   {"sigma_p", p.sigma_p},
                                   {"solve radius", p.solve_radius},
+                                  {"normal fit sigma", p.fit_sigma},
                                   {"least surface radius", p.min_surface_radius}})
     if (!(len.value > 0.0) || !std::isfinite(len.value))
       throw std::invalid_argument(std::string(name) + " must be a positive length, got " +
@@ -67,6 +68,7 @@ void validate(const RemoveTextureParams& p) {
                                   {"sigma_s", p.sigma_s},
                                   {"sigma_p", p.sigma_p},
                                   {"solve radius", p.solve_radius},
+                                  {"normal fit sigma", p.fit_sigma},
                                   {"fallback radius", p.fallback_radius}})
     if (len.unit == Length::Unit::Texture)
       throw std::invalid_argument(std::string(name) +
@@ -115,6 +117,10 @@ void validate(const RemoveTextureParams& p) {
   u.sigma_p = 1.0;
   u.solve_radius = 1.0;
   validate(u);
+  FitNormalsToPositionsParams fit = p.output_normals;
+  fit.sigma = 1.0;
+  fit.radius = 1.0;
+  validate(fit);
 }
 
 RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
@@ -421,6 +427,15 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.moves_limited = u.limited;
     result.positions = std::move(u.positions);
   }
+  if (params.output_normals.enabled && T.rows() == 0) {
+    StageClock clock(observer, rep, "fit normals");
+    FitNormalsToPositionsParams fp = params.output_normals;
+    fp.sigma = params.fit_sigma.resolve(rep.diagonal, rep.radius);
+    fp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
+    FitNormalsToPositionsResult fit = fit_normals_to_positions(result.positions, filtered, R, fp);
+    rep.normals_not_fitted = fit.kept;
+    filtered = std::move(fit.normals);
+  }
   result.normals = std::move(filtered);
   result.texture_height.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i)
@@ -483,8 +498,8 @@ bool find_exact_duplicates(const Positions& P, std::vector<std::uint32_t>* first
 
 // Lengths in the cloud's units, times 2^shift (exact).
 RemoveTextureParams scaled_lengths(RemoveTextureParams p, int shift) {
-  for (Length* len :
-       {&p.radius, &p.lambda, &p.sigma_s, &p.sigma_p, &p.solve_radius, &p.min_surface_radius})
+  for (Length* len : {&p.radius, &p.lambda, &p.sigma_s, &p.sigma_p, &p.solve_radius, &p.fit_sigma,
+                      &p.min_surface_radius})
     if (len->unit == Length::Unit::Absolute) len->value = std::ldexp(len->value, shift);
   return p;
 }

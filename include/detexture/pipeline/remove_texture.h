@@ -23,6 +23,7 @@
 #include "detexture/pipeline/estimate_texture_scale.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
+#include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/repair_folds.h"
 #include "detexture/pipeline/update_positions.h"
 #include "detexture/threads.h"
@@ -135,6 +136,13 @@ struct RemoveTextureParams {
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
   UpdatePositionsParams update;  ///< mode, isotropy angle, anchors (σp, solve radius from above)
+  /// Output normals fitted to the updated positions when enabled
+  /// (fit_normals_to_positions.h; off by default: the filtered normals, as
+  /// the paper). Clouds only: meshes take theirs from the output's faces.
+  /// Its σ is fit_sigma and its radius the solve radius.
+  FitNormalsToPositionsParams output_normals;
+  /// σ of the output-normal fit (fit_normals_to_positions.h).
+  Length fit_sigma{0.3, Length::Unit::Radius};
 
   /// Worker threads, >= 0; 0 = all cores (OpenMP's default, or OMP_NUM_THREADS).
   /// Applied for the duration of the call only (ScopedThreads in threads.h);
@@ -212,6 +220,9 @@ struct RemoveTextureReport {
       0.0;  ///< 99th percentile of the texture points' heights above their fitted surfaces
   double max_move = 0.0;          ///< the resulting move limit (0 = none)
   std::size_t moves_limited = 0;  ///< points whose move was cut to it
+  /// Output normals not fitted to the positions (fit_normals_to_positions.h):
+  /// these keep the filtered normal.
+  std::size_t normals_not_fitted = 0;
   /// Points at exactly the position of an earlier point: the method ran on
   /// the distinct positions and each copy got the result of the first.
   std::size_t duplicates_merged = 0;
@@ -226,8 +237,8 @@ struct RemoveTextureReport {
 };
 
 struct RemoveTextureResult {
-  Positions positions;                   ///< #P by 3, texture removed
-  Normals normals;                       ///< #P by 3 filtered unit normals
+  Positions positions;  ///< #P by 3, texture removed
+  Normals normals;      ///< #P by 3 unit normals of the output (fitted, filtered or from faces)
   std::vector<std::uint8_t> is_texture;  ///< #P, Eq. 2
   Eigen::VectorXd texture_height;        ///< #P, (p_in - p_out)·n_out: the signed texture removed
   Normals input_normals;                 ///< #P by 3, the normals the filters started from

@@ -1,0 +1,80 @@
+// Output normals that describe the output surface (after Sec. 6): the normal
+// of each updated point is the plane that best fits its updated neighbors,
+// weighted in space and guided by the filtered normals.
+//
+//   C_i = Σ_{j∈R_i, |p'_j - p'_i| <= ρ} w_ij (p'_j - c_i)(p'_j - c_i)ᵀ,
+//   w_ij = exp(-|p'_j - p'_i|²/(2σ²)) · exp(-(1 - n_i·n_j)²/(2σr²)),
+//   c_i  = Σ w_ij p'_j / Σ w_ij,
+//
+// where p' are the updated positions and n the filtered normals (Eq. 3's
+// result); the output normal is C_i's eigenvector of the smallest eigenvalue,
+// signed like n_i.
+//
+// Why: the paper outputs the filtered normals n, which are smoothed at σs
+// (= r by default). The position update fits them only where the texture
+// was; the surface points stay where they were (anchors, update_positions.h),
+// so the output surface keeps its facets and curvature at a finer scale than
+// n shows. The range weight keeps the fit on one side of a crease: neighbors
+// whose filtered normal turns away by more than about 45° weigh little. The
+// mesh mode does the same with the output's faces (face_normals.h).
+//
+// Off by default (--output-normals fitted turns it on), because it helps
+// only where the output positions are better than n: measured on both
+// quality suites (bench/quality_real_notes.md), the mean normal error drops
+// by 8-40% on smooth and faceted shapes with sparse features (the person
+// 6.09° → 5.30°, the duck 3.29° → 2.55°, the blob 1.70° → 1.06°, the sphere
+// 1.06° → 0.65°), but where dense waves or grooves stay partly in the
+// positions the fit follows them (the torus with waves 3.89° → 8.50°, the
+// noisy U grooves 3.64° → 6.19°, the knot 3.60° → 4.95°). Gating the fit by
+// the points' texture labels and heights, or by its own roughness, kept part
+// of both; no gate separated the two kinds of case.
+//
+// A fit is not taken, and n_i kept (and counted), when fewer than 3
+// neighbors weigh in, when the fit is degenerate (collinear neighbors, see
+// kMinSpreadRatio), or when it turns more than max_turn_deg from n_i (a part
+// thinner than the fit window, where the plane has no meaning).
+#pragma once
+
+#include <cstddef>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/types.h"
+
+namespace detexture {
+
+struct FitNormalsToPositionsParams {
+  /// Fit the output normals to the output positions (--output-normals
+  /// fitted); false (the default) outputs the filtered normals, as the paper
+  /// does.
+  bool enabled = false;
+  /// σ: spatial scale of the fit's weights, in the cloud's units; > 0.
+  /// RemoveTextureParams fills it from its fit_sigma (0.3 r).
+  double sigma = 0.0;
+  /// ρ: neighbors of R_i farther than this (in the updated positions) are
+  /// left out; > 0. RemoveTextureParams fills it with the solve radius (0.5 r).
+  double radius = 0.0;
+  /// σr: range scale on 1 - n_i·n_j of the filtered normals; > 0.
+  /// 0.3 weighs a neighbor turned by 30° at 0.9, by 60° at 0.25, by 90° at 0.004.
+  double range_sigma = 0.3;
+  /// A fit that turns farther than this from the filtered normal is not
+  /// taken, degrees in (0, 180].
+  double max_turn_deg = 45.0;
+};
+
+struct FitNormalsToPositionsResult {
+  Normals normals;       ///< #P by 3 unit normals
+  std::size_t kept = 0;  ///< points that kept the filtered normal (see above)
+};
+
+void validate(const FitNormalsToPositionsParams& params);
+
+/// P  #P by 3 updated positions p'
+/// normals  #P by 3 filtered unit normals n (zero rows are kept as they are)
+/// R  neighborhoods of the points (any radius; entries beyond ρ are skipped)
+/// Throws std::invalid_argument on bad parameters or mismatched sizes.
+/// Deterministic for any thread count.
+FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
+                                                     const Neighborhoods& R,
+                                                     const FitNormalsToPositionsParams& params);
+
+}  // namespace detexture

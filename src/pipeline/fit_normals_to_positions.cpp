@@ -1,0 +1,103 @@
+#include "detexture/pipeline/fit_normals_to_positions.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "detexture/geometry/estimate_normals.h"
+
+namespace detexture {
+
+void validate(const FitNormalsToPositionsParams& p) {
+  if (!(p.sigma > 0.0) || !std::isfinite(p.sigma))
+    throw std::invalid_argument("the normal fit's spatial scale must be positive, got " +
+                                number_text(p.sigma));
+  if (!(p.radius > 0.0) || !std::isfinite(p.radius))
+    throw std::invalid_argument("the normal fit's radius must be positive, got " +
+                                number_text(p.radius));
+  if (!(p.range_sigma > 0.0) || !std::isfinite(p.range_sigma))
+    throw std::invalid_argument("the normal fit's range scale must be positive, got " +
+                                number_text(p.range_sigma));
+  if (!(p.max_turn_deg > 0.0 && p.max_turn_deg <= 180.0))
+    throw std::invalid_argument("the normal fit's largest turn must be in (0, 180] degrees, got " +
+                                number_text(p.max_turn_deg));
+}
+
+FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
+                                                     const Neighborhoods& R,
+                                                     const FitNormalsToPositionsParams& params) {
+  validate(params);
+  const std::size_t n = R.size();
+  if (static_cast<std::size_t>(P.rows()) != n || normals.rows() != P.rows())
+    throw std::invalid_argument(
+        "fit_normals_to_positions: positions, normals and neighborhoods "
+        "differ in size");
+  const double radius_sq = params.radius * params.radius;
+  const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma * params.sigma);
+  const double inv_two_range_sq = 1.0 / (2.0 * params.range_sigma * params.range_sigma);
+  const double min_cos = std::cos(params.max_turn_deg * M_PI / 180.0);
+  FitNormalsToPositionsResult out;
+  out.normals = normals;
+  std::size_t kept = 0;
+
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::RowVector3d pi = P.row(i);
+    const Eigen::RowVector3d ni = normals.row(i);
+    if (ni.squaredNorm() == 0.0) continue;
+    // Two passes around the weighted mean, in coordinates relative to p'_i
+    // (exact for far-from-origin clouds, as in estimate_normals).
+    double weight = 0.0;
+    int count = 0;
+    Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+    auto w = [&](std::uint32_t j, const Eigen::RowVector3d& d) {
+      const double d_sq = d.squaredNorm();
+      if (d_sq > radius_sq) return 0.0;
+      const double t = 1.0 - ni.dot(normals.row(j));
+      return std::exp(-d_sq * inv_two_sigma_sq - t * t * inv_two_range_sq);
+    };
+    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
+      const Eigen::RowVector3d d = P.row(*j) - pi;
+      const double wj = w(*j, d);
+      if (!(wj > 0.0)) continue;
+      weight += wj;
+      mean += wj * d;
+      ++count;
+    }
+    if (count < 3 || !(weight > 0.0)) {
+      ++kept;
+      continue;
+    }
+    mean /= weight;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
+      const Eigen::RowVector3d d = P.row(*j) - pi;
+      const double wj = w(*j, d);
+      if (!(wj > 0.0)) continue;
+      const Eigen::RowVector3d q = d - mean;
+      C.noalias() += wj * q.transpose() * q;
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+    const Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(0.0);
+    if (!(std::sqrt(lambda(1)) > kMinSpreadRatio * std::sqrt(lambda(2)))) {
+      ++kept;
+      continue;
+    }
+    Eigen::RowVector3d m = eig.eigenvectors().col(0).transpose().normalized();
+    double c = m.dot(ni);
+    if (c < 0.0) {
+      m = -m;
+      c = -c;
+    }
+    if (c < min_cos) {
+      ++kept;
+      continue;
+    }
+    out.normals.row(i) = m;
+  }
+  out.kept = kept;
+  return out;
+}
+
+}  // namespace detexture

@@ -1,0 +1,161 @@
+#include "detexture/pipeline/fit_normals_to_positions.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "detexture/pipeline/remove_texture.h"
+#include "detexture/threads.h"
+#include "test_support.h"
+
+namespace detexture {
+namespace {
+
+FitNormalsToPositionsParams params_at(double sigma, double radius) {
+  FitNormalsToPositionsParams p;
+  p.sigma = sigma;
+  p.radius = radius;
+  return p;
+}
+
+// Rotate every row of N by `deg` degrees about the x axis.
+Normals tilted(const Normals& N, double deg) {
+  const double t = deg * M_PI / 180.0;
+  Eigen::Matrix3d R;
+  R << 1, 0, 0, 0, std::cos(t), -std::sin(t), 0, std::sin(t), std::cos(t);
+  return N * R.transpose();
+}
+
+// A sphere's positions are exact; the guiding normals are all tilted by 10°
+// (a smoothed or biased field). The fit reads the normals off the positions:
+// radial, to the sampling's accuracy.
+TEST(FitNormalsToPositions, SphereNormalsComeFromThePositions) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  const Normals guide = tilted(s.N, 10.0);
+  const FitNormalsToPositionsResult fit =
+      fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+  EXPECT_EQ(fit.kept, 0u);
+  double worst = 0.0;
+  for (int i = 0; i < s.P.rows(); ++i)
+    worst = std::max(worst, test::angle_deg(fit.normals.row(i), s.N.row(i)));
+  EXPECT_LT(worst, 0.5);
+}
+
+// The sign follows the guiding normal, whichever way it points.
+TEST(FitNormalsToPositions, SignFollowsTheGuide) {
+  const auto s = test::fibonacci_sphere(5000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.15, 0});
+  const Normals inward = -s.N;
+  const FitNormalsToPositionsResult fit =
+      fit_normals_to_positions(s.P, inward, R, params_at(0.06, 0.12));
+  for (int i = 0; i < s.P.rows(); ++i) EXPECT_LT(fit.normals.row(i).dot(s.N.row(i)), -0.99);
+}
+
+// A 90° crease with exact face normals as the guide: the range weight keeps
+// each fit on its own face, up to the crease line, within 1°; without it (σr huge) the
+// points next to the crease fit a plane across both faces.
+TEST(FitNormalsToPositions, RangeWeightKeepsCreasesSharp) {
+  const auto s = test::folded_plane(61, 90.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  FitNormalsToPositionsParams p = params_at(0.03, 0.05);
+  const FitNormalsToPositionsResult sharp = fit_normals_to_positions(s.P, s.N, R, p);
+  p.range_sigma = 1e3;
+  p.max_turn_deg = 180.0;
+  const FitNormalsToPositionsResult blurred = fit_normals_to_positions(s.P, s.N, R, p);
+  double worst_sharp = 0.0, worst_blurred = 0.0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    worst_sharp = std::max(worst_sharp, test::angle_deg(sharp.normals.row(i), s.N.row(i)));
+    worst_blurred = std::max(worst_blurred, test::angle_deg(blurred.normals.row(i), s.N.row(i)));
+  }
+  EXPECT_LT(worst_sharp, 1.0);  // a 90° neighbor still weighs exp(-1/(2·0.3²)) = 0.004
+  EXPECT_GT(worst_blurred, 20.0);
+}
+
+// A flat sheet guided by normals 60° off: the fit (+z) would turn by 60°,
+// past max_turn_deg = 45, so every point keeps its guide; at 90 it is taken.
+TEST(FitNormalsToPositions, LargeTurnsAreRefused) {
+  const auto s = test::bumpy_plane(41, 0.0, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  const Normals guide = tilted(s.N, 60.0);
+  FitNormalsToPositionsParams p = params_at(0.05, 0.1);
+  const FitNormalsToPositionsResult refused = fit_normals_to_positions(s.P, guide, R, p);
+  EXPECT_EQ(refused.kept, static_cast<std::size_t>(s.P.rows()));
+  EXPECT_TRUE(refused.normals.isApprox(guide));
+  p.max_turn_deg = 90.0;
+  const FitNormalsToPositionsResult taken = fit_normals_to_positions(s.P, guide, R, p);
+  EXPECT_EQ(taken.kept, 0u);
+  for (int i = 0; i < s.P.rows(); ++i) EXPECT_NEAR(taken.normals(i, 2), 1.0, 1e-12);
+}
+
+// Too few neighbors, collinear neighbors, neighbors beyond ρ, zero normals:
+// the guide is kept and counted (zero normals stay zero, uncounted).
+TEST(FitNormalsToPositions, DegenerateNeighborhoodsKeepTheGuide) {
+  Positions P(7, 3);
+  P << 0, 0, 0,                                      // alone
+      10, 0, 0, 10.1, 0, 0, 10.2, 0, 0, 10.3, 0, 0,  // collinear
+      20, 0, 0, 20, 0.05, 0;                         // two points only
+  Normals N(7, 3);
+  N.setZero();
+  N.col(2).setOnes();
+  N.row(6).setZero();
+  const Neighborhoods R = radius_neighborhoods(P, {0.5, 0});
+  const FitNormalsToPositionsResult fit = fit_normals_to_positions(P, N, R, params_at(0.2, 0.5));
+  EXPECT_EQ(fit.kept, 6u);
+  EXPECT_TRUE(fit.normals.isApprox(N));
+  EXPECT_EQ(fit.normals.row(6).squaredNorm(), 0.0);
+}
+
+TEST(FitNormalsToPositions, BadInputIsRefused) {
+  const auto s = test::bumpy_plane(11, 0.0, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.2, 0});
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, params_at(0.0, 0.1)), std::invalid_argument);
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, params_at(0.1, -1.0)), std::invalid_argument);
+  FitNormalsToPositionsParams p = params_at(0.1, 0.1);
+  p.range_sigma = 0.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  p = params_at(0.1, 0.1);
+  p.max_turn_deg = 200.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N.topRows(5), R, params_at(0.1, 0.1)),
+               std::invalid_argument);
+  RemoveTextureParams rp;
+  rp.fit_sigma = Length{0.0, Length::Unit::Radius};
+  EXPECT_THROW(validate(rp), std::invalid_argument);
+}
+
+// Through remove_texture: the option changes the normals only, and the same
+// on any thread count; on a sphere with bumps the fitted normals are closer
+// to the true (radial) ones than the filtered normals are.
+TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
+  auto s = test::fibonacci_sphere(20000, 1.0);
+  // Bumps: push points near 12 centres outwards by a smooth 0.03 dome.
+  const auto centres = test::fibonacci_sphere(12, 1.0);
+  for (int i = 0; i < s.P.rows(); ++i)
+    for (int c = 0; c < centres.P.rows(); ++c) {
+      const double d = (s.N.row(i) - centres.N.row(c)).norm();
+      if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
+    }
+  RemoveTextureParams p;
+  p.radius = Length{0.15, Length::Unit::Absolute};
+  p.threads = 1;
+  const RemoveTextureResult filtered = remove_texture(s.P, Normals(), p);
+  p.output_normals.enabled = true;
+  const RemoveTextureResult fitted = remove_texture(s.P, Normals(), p);
+  p.threads = 2;
+  const RemoveTextureResult fitted2 = remove_texture(s.P, Normals(), p);
+  EXPECT_TRUE(fitted.positions == filtered.positions);
+  EXPECT_TRUE(fitted.normals == fitted2.normals);
+  EXPECT_FALSE(fitted.normals == filtered.normals);
+  EXPECT_EQ(filtered.report.normals_not_fitted, 0u);
+  auto mean_error = [&](const RemoveTextureResult& r) {
+    double sum = 0.0;
+    for (int i = 0; i < r.positions.rows(); ++i)
+      sum += test::angle_deg(r.normals.row(i), r.positions.row(i).normalized());
+    return sum / r.positions.rows();
+  };
+  EXPECT_LT(mean_error(fitted), 0.8 * mean_error(filtered));
+}
+
+}  // namespace
+}  // namespace detexture
