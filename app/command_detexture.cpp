@@ -478,7 +478,7 @@ int run_detexture(int argc, char** argv) {
                  "a Gaussian fall-off of this multiple of λ; 0 holds them all fully")
       ->capture_default_str();
   std::map<std::string, bool> output_normal_modes{{"fitted", true}, {"filtered", false}};
-  app.add_option("--output-normals", params.output_normals.enabled,
+  app.add_option("--output-normals", params.fit_normals,
                  "Clouds: filtered (the paper: the filtered normals, smoothed at σs) or fitted "
                  "(the normals of the output surface: a weighted plane fit to the output "
                  "points, guided by the filtered normals; better on smooth or faceted shapes "
@@ -486,7 +486,7 @@ int run_detexture(int argc, char** argv) {
                  "take theirs from the output's faces")
       ->transform(CLI::CheckedTransformer(output_normal_modes, CLI::ignore_case).description(""))
       ->type_name("MODE")
-      ->default_str(params.output_normals.enabled ? "fitted" : "filtered");
+      ->default_str(params.fit_normals ? "fitted" : "filtered");
   add_length(app, "--fit-sigma", params.fit_sigma,
              "Fitted output normals: spatial scale of the fit's weights (neighbors within "
              "--solve-radius take part)");

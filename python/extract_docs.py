@@ -76,7 +76,7 @@ FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma"}
 # Parameter structs whose members become Python keywords: remove_texture's,
 # and those of the stages bound on their own.
 TABLES = ["RemoveTextureParams", "DetectTextureParams", "FilterNormalsGaussianParams",
-          "FilterNormalsRollingParams", "UpdatePositionsParams"]
+          "FilterNormalsRollingParams", "UpdatePositionsParams", "FitNormalsToPositionsParams"]
 
 
 def param_fields(members, struct, path=(), top=None):

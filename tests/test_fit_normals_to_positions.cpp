@@ -140,7 +140,7 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   p.radius = Length{0.15, Length::Unit::Absolute};
   p.threads = 1;
   const RemoveTextureResult filtered = remove_texture(s.P, Normals(), p);
-  p.output_normals.enabled = true;
+  p.fit_normals = true;
   const RemoveTextureResult fitted = remove_texture(s.P, Normals(), p);
   p.threads = 2;
   const RemoveTextureResult fitted2 = remove_texture(s.P, Normals(), p);

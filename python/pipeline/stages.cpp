@@ -1,6 +1,7 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), filter_normals_gaussian (Eq. 1),
-// filter_normals_rolling (Eqs. 3-8), update_positions (Eqs. 9-10). Keywords
+// filter_normals_rolling (Eqs. 3-8), update_positions (Eqs. 9-10),
+// fit_normals_to_positions (optional output normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
@@ -9,6 +10,7 @@
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
+#include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/update_positions.h"
 #include "module.h"
 #include "params.h"
@@ -178,6 +180,32 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("normals"), py::arg("neighborhoods"),
       py::arg("is_texture") = py::none(), update_doc.c_str());
+
+  static const std::string fit_doc = stage_doc<FitNormalsToPositionsParams>(
+      m, "fit_normals_to_positions", "points, normals, neighborhoods", "normals, kept",
+      "FitNormalsToPositionsParams");
+  m.def(
+      "fit_normals_to_positions",
+      [](const py::object& points, const py::object& normals, const Neighborhoods& R,
+         const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<FitNormalsToPositionsParams>(kwargs, "fit_normals_to_positions");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        const Normals N = to_matrix3(normals, "normals");
+        check_rows(P, N, "normals");
+        check_neighborhoods(P, R);
+        FitNormalsToPositionsResult f;
+        {
+          py::gil_scoped_release release;
+          f = fit_normals_to_positions(P, N, R, params);
+        }
+        py::dict d;
+        d["normals"] = to_array(std::move(f.normals));
+        d["kept"] = f.kept;
+        return d;
+      },
+      py::arg("points"), py::arg("normals"), py::arg("neighborhoods"), fit_doc.c_str());
 }
 
 }  // namespace detexture::python

@@ -90,7 +90,7 @@ def test_fitted_output_normals_match_the_command_line(cube, work):
             "-q", "--force")
     cloud = detexture.read_point_cloud(cube)
     P = cloud.positions
-    r = detexture.remove_texture(cloud, radius=0.09, output_normals_enabled=True, fit_sigma="0.25r")
+    r = detexture.remove_texture(cloud, radius=0.09, fit_normals=True, fit_sigma="0.25r")
     plain = detexture.remove_texture(cloud, radius=0.09)
     cli = detexture.read_point_cloud(out)
     assert np.array_equal(cli.normals, r.normals)

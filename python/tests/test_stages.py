@@ -50,3 +50,24 @@ def test_filters_and_update_flatten_the_bump():
         detexture.filter_normals_gaussian(P, N, R, sigma_s=0.08)
     with pytest.raises(ValueError, match="is_texture is needed"):
         detexture.update_positions(P, N, R, sigma_p=0.04)
+
+
+def test_fit_normals_to_positions_reads_a_sphere():
+    # Exact sphere positions, guiding normals all tilted by 10°: the fit
+    # gives the radial normals back, signed like the guide.
+    n = 8000
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    a = np.pi * (3 - np.sqrt(5)) * np.arange(n)
+    P = np.column_stack([np.sqrt(1 - z * z) * np.cos(a), np.sqrt(1 - z * z) * np.sin(a), z])
+    t = np.radians(10)
+    rot = np.array([[1, 0, 0], [0, np.cos(t), -np.sin(t)], [0, np.sin(t), np.cos(t)]])
+    guide = P @ rot.T
+    R = detexture.radius_neighborhoods(P, 0.12)
+    f = detexture.fit_normals_to_positions(P, guide, R, sigma=0.05, radius=0.1)
+    assert f["kept"] == 0
+    assert np.degrees(np.arccos(np.clip((f["normals"] * P).sum(1), -1, 1))).max() < 0.5
+    flipped = detexture.fit_normals_to_positions(P, -guide, R, sigma=0.05, radius=0.1)
+    assert np.allclose(flipped["normals"], -f["normals"])
+    with pytest.raises(ValueError, match="spatial scale"):
+        detexture.fit_normals_to_positions(P, guide, R, sigma=0.0, radius=0.1)

@@ -427,7 +427,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.moves_limited = u.limited;
     result.positions = std::move(u.positions);
   }
-  if (params.output_normals.enabled && T.rows() == 0) {
+  if (params.fit_normals && T.rows() == 0) {
     StageClock clock(observer, rep, "fit normals");
     FitNormalsToPositionsParams fp = params.output_normals;
     fp.sigma = params.fit_sigma.resolve(rep.diagonal, rep.radius);

@@ -18,7 +18,8 @@
 // whose filtered normal turns away by more than about 45° weigh little. The
 // mesh mode does the same with the output's faces (face_normals.h).
 //
-// Off by default (--output-normals fitted turns it on), because it helps
+// Off by default in remove_texture (RemoveTextureParams::fit_normals;
+// --output-normals fitted turns it on), because it helps
 // only where the output positions are better than n: measured on both
 // quality suites (bench/quality_real_notes.md), the mean normal error drops
 // by 8-40% on smooth and faceted shapes with sparse features (the person
@@ -43,10 +44,6 @@
 namespace detexture {
 
 struct FitNormalsToPositionsParams {
-  /// Fit the output normals to the output positions (--output-normals
-  /// fitted); false (the default) outputs the filtered normals, as the paper
-  /// does.
-  bool enabled = false;
   /// σ: spatial scale of the fit's weights, in the cloud's units; > 0.
   /// RemoveTextureParams fills it from its fit_sigma (0.3 r).
   double sigma = 0.0;

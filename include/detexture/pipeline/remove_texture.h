@@ -136,10 +136,12 @@ struct RemoveTextureParams {
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
   UpdatePositionsParams update;  ///< mode, isotropy angle, anchors (σp, solve radius from above)
-  /// Output normals fitted to the updated positions when enabled
-  /// (fit_normals_to_positions.h; off by default: the filtered normals, as
-  /// the paper). Clouds only: meshes take theirs from the output's faces.
-  /// Its σ is fit_sigma and its radius the solve radius.
+  /// Output normals fitted to the updated positions (fit_normals_to_positions.h);
+  /// false (the default) outputs the filtered normals, as the paper does.
+  /// Clouds only: meshes take theirs from the output's faces.
+  bool fit_normals = false;
+  /// The fit's range scale and largest turn; its σ is fit_sigma and its
+  /// radius the solve radius.
   FitNormalsToPositionsParams output_normals;
   /// σ of the output-normal fit (fit_normals_to_positions.h).
   Length fit_sigma{0.3, Length::Unit::Radius};
