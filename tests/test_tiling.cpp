@@ -7,6 +7,7 @@
 
 #include "detexture/tiling/plan_tiles.h"
 #include "detexture/tiling/remove_texture_tiled.h"
+#include "detexture/tiling/resolve_tile_params.h"
 #include "detexture/tiling/tile_halo.h"
 #include "test_support.h"
 
@@ -95,6 +96,30 @@ RemoveTextureParams plane_params() {
   return p;
 }
 
+// Every length is resolved against the whole cloud (d = 2, r = 0.1 here),
+// never against a tile's own diagonal.
+TEST(ResolveTileParams, EveryLengthIsInTheCloudsUnits) {
+  RemoveTextureParams p;
+  p.lambda = {0.05, Length::Unit::Radius};
+  p.sigma_s = {0.01, Length::Unit::Diagonal};
+  p.fit_sigma = {0.02, Length::Unit::Diagonal};
+  p.solve_radius = {0.03, Length::Unit::Absolute};
+  TileLengths lengths;
+  lengths.diagonal = 2.0;
+  lengths.radius.radius = 0.1;
+  const RemoveTextureParams t = resolve_tile_params(p, lengths);
+  for (const Length& len : {t.radius, t.lambda, t.sigma_s, t.sigma_p, t.solve_radius, t.fit_sigma,
+                            t.min_surface_radius})
+    EXPECT_EQ(len.unit, Length::Unit::Absolute);
+  EXPECT_DOUBLE_EQ(t.radius.value, 0.1);
+  EXPECT_DOUBLE_EQ(t.lambda.value, 0.005);
+  EXPECT_DOUBLE_EQ(t.sigma_s.value, 0.02);
+  EXPECT_DOUBLE_EQ(t.fit_sigma.value, 0.04);
+  EXPECT_DOUBLE_EQ(t.solve_radius.value, 0.03);
+  EXPECT_DOUBLE_EQ(t.sigma_p.value, 0.05);             // 0.5r
+  EXPECT_DOUBLE_EQ(t.min_surface_radius.value, 0.05);  // 0.5r
+}
+
 TEST(RemoveTextureTiled, OneTileIsThePlainRunBitForBit) {
   const auto s = test::bumpy_plane(61, 0.03, 0.015);
   RemoveTextureParams p = plane_params();
@@ -109,6 +134,12 @@ TEST(RemoveTextureTiled, OneTileIsThePlainRunBitForBit) {
   EXPECT_TRUE(tiled.normals == whole.normals);
   EXPECT_EQ(tiled.is_texture, whole.is_texture);
   EXPECT_TRUE(tiled.input_positions == s.P);
+  p.fit_normals = true;
+  p.fit_sigma = {0.01, Length::Unit::Diagonal};
+  const RemoveTextureResult whole_fit = remove_texture(s.P, s.N, p);
+  const RemoveTextureResult tiled_fit = remove_texture_tiled(s.P, s.N, p, t, {}, &report);
+  EXPECT_TRUE(tiled_fit.normals == whole_fit.normals);
+  EXPECT_FALSE(tiled_fit.normals == tiled.normals);
 }
 
 // Two bumpy patches 3 apart (far beyond the exact reach 34r + r = 2.1 of the

@@ -15,8 +15,8 @@ struct TileLengths {
   TextureScaleEstimate scale;  ///< when r is a multiple of the texture radius
 };
 
-/// `params` with r, λ, σs, σp, the solve radius and the least surface
-/// radius given in the cloud's units (resolved from `lengths`), and the
+/// `params` with r, λ, σs, σp, the solve radius, the normal fit's σ and the
+/// least surface radius given in the cloud's units (resolved from `lengths`), and the
 /// neighborhood-share guard off (a tile on the rim of the cloud holds few
 /// points, and the guard was checked on the whole cloud by the caller).
 /// Throws std::invalid_argument (validate) for bad parameters.
