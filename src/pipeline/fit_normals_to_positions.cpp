@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "detexture/geometry/estimate_normals.h"
 
@@ -41,60 +42,62 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
   out.normals = normals;
   std::size_t kept = 0;
 
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::RowVector3d pi = P.row(i);
-    const Eigen::RowVector3d ni = normals.row(i);
-    if (ni.squaredNorm() == 0.0) continue;
-    // Two passes around the weighted mean, in coordinates relative to p'_i
-    // (exact for far-from-origin clouds, as in estimate_normals).
-    double weight = 0.0;
-    int count = 0;
-    Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
-    auto w = [&](std::uint32_t j, const Eigen::RowVector3d& d) {
-      const double d_sq = d.squaredNorm();
-      if (d_sq > radius_sq) return 0.0;
-      const double t = 1.0 - ni.dot(normals.row(j));
-      return std::exp(-d_sq * inv_two_sigma_sq - t * t * inv_two_range_sq);
-    };
-    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
-      const Eigen::RowVector3d d = P.row(*j) - pi;
-      const double wj = w(*j, d);
-      if (!(wj > 0.0)) continue;
-      weight += wj;
-      mean += wj * d;
-      ++count;
+#pragma omp parallel reduction(+ : kept)
+  {
+    std::vector<double> weights;  // w_ij of R_i's members, reused from point to point
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::RowVector3d pi = P.row(i);
+      const Eigen::RowVector3d ni = normals.row(i);
+      if (ni.squaredNorm() == 0.0) continue;
+      // Two passes around the weighted mean, in coordinates relative to p'_i
+      // (exact for far-from-origin clouds, as in estimate_normals).
+      weights.assign(R.count(i), 0.0);
+      double weight = 0.0;
+      int count = 0;
+      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+      for (std::size_t k = 0; k < weights.size(); ++k) {
+        const std::uint32_t j = R.begin(i)[k];
+        const Eigen::RowVector3d d = P.row(j) - pi;
+        const double d_sq = d.squaredNorm();
+        if (d_sq > radius_sq) continue;
+        const double t = 1.0 - ni.dot(normals.row(j));
+        const double wj = std::exp(-d_sq * inv_two_sigma_sq - t * t * inv_two_range_sq);
+        if (!(wj > 0.0)) continue;
+        weights[k] = wj;
+        weight += wj;
+        mean += wj * d;
+        ++count;
+      }
+      if (count < 3 || !(weight > 0.0)) {
+        ++kept;
+        continue;
+      }
+      mean /= weight;
+      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+      for (std::size_t k = 0; k < weights.size(); ++k) {
+        if (weights[k] == 0.0) continue;
+        const Eigen::RowVector3d q = P.row(R.begin(i)[k]) - pi - mean;
+        C.noalias() += weights[k] * q.transpose() * q;
+      }
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+      const Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(0.0);
+      if (!(std::sqrt(lambda(1)) > kMinSpreadRatio * std::sqrt(lambda(2)))) {
+        ++kept;
+        continue;
+      }
+      Eigen::RowVector3d m = eig.eigenvectors().col(0).transpose().normalized();
+      double c = m.dot(ni);
+      if (c < 0.0) {
+        m = -m;
+        c = -c;
+      }
+      if (c < min_cos) {
+        ++kept;
+        continue;
+      }
+      out.normals.row(i) = m;
     }
-    if (count < 3 || !(weight > 0.0)) {
-      ++kept;
-      continue;
-    }
-    mean /= weight;
-    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (const std::uint32_t* j = R.begin(i); j != R.end(i); ++j) {
-      const Eigen::RowVector3d d = P.row(*j) - pi;
-      const double wj = w(*j, d);
-      if (!(wj > 0.0)) continue;
-      const Eigen::RowVector3d q = d - mean;
-      C.noalias() += wj * q.transpose() * q;
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-    const Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(0.0);
-    if (!(std::sqrt(lambda(1)) > kMinSpreadRatio * std::sqrt(lambda(2)))) {
-      ++kept;
-      continue;
-    }
-    Eigen::RowVector3d m = eig.eigenvectors().col(0).transpose().normalized();
-    double c = m.dot(ni);
-    if (c < 0.0) {
-      m = -m;
-      c = -c;
-    }
-    if (c < min_cos) {
-      ++kept;
-      continue;
-    }
-    out.normals.row(i) = m;
   }
   out.kept = kept;
   return out;

@@ -29,8 +29,8 @@
 // noisy U grooves 3.64° → 6.19°, the knot 3.60° → 4.95°). Gating the fit by
 // the points' texture labels and heights, or by its own roughness, kept part
 // of both; no gate separated the two kinds of case. It costs about 6% of a
-// run (a 150k-point sphere with bumps, 795 neighbors: 0.23 s of 4.17 s on 2
-// threads).
+// run (a 150k-point sphere with bumps, 795 neighbors: 0.28 s of 4.89 s on 2
+// threads, medians of 5).
 //
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
