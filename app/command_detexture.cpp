@@ -199,6 +199,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
   add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
   add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
+  add("  \"surface_split_neighbors\": %zu,\n", r.surface_split_neighbors);
   add("  \"thin_part_points\": %zu,\n  \"thin_part_neighbors\": %zu,\n", r.thin_part_points,
       r.thin_part_neighbors);
   add("  \"mesh_path_points\": %zu,\n  \"mesh_path_neighbors\": %zu,\n", r.mesh_path_points,
@@ -372,6 +373,12 @@ int run_detexture(int argc, char** argv) {
                  "Neighbors back to back with the point (across a thin part or a convex "
                  "crease) whose normal differs from its normal by more than this (degrees) "
                  "are left out of R_i; 180 keeps all (the paper)")
+      ->capture_default_str();
+  app.add_option("--surface-split-angle", params.surface_split.max_angle_deg,
+                 "Clouds: after texture detection, a neighbor pair leaves R_i when neither "
+                 "point's surface (its normal, or the surface fitted under it if texture) is "
+                 "within this angle of the other's normal (degrees): tips, rims, curled ears; "
+                 "180 keeps all (the paper)")
       ->capture_default_str();
   app.add_option("--thin-part-radius", params.thin_parts.min_radius_fraction,
                  "On parts thinner than r (limbs, fingers), R_i shrinks to the distance of "
@@ -776,6 +783,10 @@ int run_detexture(int argc, char** argv) {
         std::fprintf(stderr, "  neighbor pairs left out as another sheet: %zu (%.2f%%)\n",
                      r.opposite_neighbors,
                      100.0 * r.opposite_neighbors / (r.neighbors.mean * cloud.size()));
+      if (r.surface_split_neighbors > 0)
+        std::fprintf(stderr, "  neighbor pairs left out as another surface: %zu (%.2f%%)\n",
+                     r.surface_split_neighbors,
+                     100.0 * r.surface_split_neighbors / (r.neighbors.mean * cloud.size()));
       if (!texture_layer.empty())
         std::fprintf(stderr, "  texture layer: %s\n", texture_layer.c_str());
       std::fprintf(stderr, "  time: read %.2f s", read_s);

@@ -244,11 +244,15 @@ DETEXTURE_VARIANTS = [
      "R_i of radius r everywhere, also on parts thinner than r (before 222f0d4)"),
     ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
-                     "--thin-part-radius", "1", "--guidance", "patch-shift"],
+                     "--thin-part-radius", "1", "--guidance", "patch-shift",
+                     "--surface-split-angle", "180"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("full-anchors", ["--anchor-height", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
      "a wave's flank (before session 6)"),
+    ("no-surface-split", ["--surface-split-angle", "180"],
+     "R_i not split after texture detection: points past a tip or a rim stay in each other's "
+     "R_i unless back to back (before session 8)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions (fit_normals_to_positions.h; an option, "
      "not the default)"),

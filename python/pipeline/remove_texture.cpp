@@ -258,6 +258,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(normals_flipped);
   DETEXTURE_REPORT(orientation_inconsistency);
   DETEXTURE_REPORT(opposite_neighbors);
+  DETEXTURE_REPORT(surface_split_neighbors);
   DETEXTURE_REPORT(thin_part_points);
   DETEXTURE_REPORT(thin_part_neighbors);
   DETEXTURE_REPORT(mesh_path_points);

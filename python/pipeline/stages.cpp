@@ -1,13 +1,15 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
-// swap a stage: detect_texture (Eq. 2), filter_normals_gaussian (Eq. 1),
-// filter_normals_rolling (Eqs. 3-8), update_positions (Eqs. 9-10),
-// fit_normals_to_positions (optional output normals). Keywords
+// swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
+// filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
+// update_positions (Eqs. 9-10), fit_normals_to_positions (optional output
+// normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
 
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
+#include "detexture/pipeline/drop_neighbors_across_surfaces.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/fit_normals_to_positions.h"
@@ -47,8 +49,8 @@ std::string stage_doc(const py::module_& m, const std::string& name, const std::
 void bind_stages(py::module_& m) {
   static const std::string detect_doc = stage_doc<DetectTextureParams>(
       m, "detect_texture", "points, neighborhoods, normals=None",
-      "is_texture (bool), inliers, members, omega, height, texture_points, no_plane, "
-      "mean_iterations",
+      "is_texture (bool), inliers, members, omega, height, surface_normal (with "
+      "surface_normals=True), texture_points, no_plane, mean_iterations",
       "DetectTextureParams");
   m.def(
       "detect_texture",
@@ -74,6 +76,7 @@ void bind_stages(py::module_& m) {
         d["members"] = to_array(std::move(t.members));
         d["omega"] = to_array(std::move(t.omega));
         d["height"] = to_array(std::move(t.height));
+        if (params.surface_normals) d["surface_normal"] = to_array(std::move(t.surface_normal));
         d["texture_points"] = t.texture_points;
         d["no_plane"] = t.no_plane;
         d["mean_iterations"] = t.mean_iterations;
@@ -81,6 +84,35 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("neighborhoods"), py::arg("normals") = py::none(),
       detect_doc.c_str());
+
+  m.def(
+      "drop_neighbors_across_surfaces",
+      [](const Neighborhoods& R, const py::object& normals, const py::object& surface_normals,
+         const py::object& is_texture, double max_angle_deg) {
+        const Normals N = to_matrix3(normals, "normals");
+        const Normals S = to_matrix3(surface_normals, "surface_normals", true);
+        const std::vector<std::uint8_t> t =
+            to_vector<std::uint8_t>(is_texture, "is_texture", R.size());
+        Neighborhoods kept = R;
+        std::size_t removed = 0;
+        {
+          py::gil_scoped_release release;
+          removed = drop_neighbors_across_surfaces(kept, N, S, t, {max_angle_deg});
+        }
+        return py::make_tuple(std::move(kept), removed);
+      },
+      py::arg("neighborhoods"), py::arg("normals"), py::arg("surface_normals"),
+      py::arg("is_texture"),
+      py::arg("max_angle_deg") = DropNeighborsAcrossSurfacesParams{}.max_angle_deg,
+      ("drop_neighbors_across_surfaces(neighborhoods, normals, surface_normals, is_texture, "
+       "max_angle_deg=" +
+       number_text(DropNeighborsAcrossSurfacesParams{}.max_angle_deg) +
+       ") -> (Neighborhoods, removed)\n\nReturns a copy of the neighborhoods without the pairs "
+       "neither of which lies on the other's surface; surface_normals is detect_texture's "
+       "surface_normal (surface_normals=True).\n\nC++: " +
+       doc("drop_neighbors_across_surfaces") +
+       "\nmax_angle_deg: " + doc("DropNeighborsAcrossSurfacesParams.max_angle_deg"))
+          .c_str());
 
   static const std::string gaussian_doc = stage_doc<FilterNormalsGaussianParams>(
       m, "filter_normals_gaussian", "points, normals, neighborhoods, omega=None",

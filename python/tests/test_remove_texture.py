@@ -99,6 +99,19 @@ def test_fitted_output_normals_match_the_command_line(cube, work):
     assert r.report.normals_not_fitted < len(P) // 100
 
 
+def test_surface_split_matches_the_command_line(cube, work):
+    assert detexture.default_parameters()["surface_split_max_angle_deg"] == 60.0
+    out = work / "no_split.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--surface-split-angle", "180", "-q", "--force")
+    cloud = detexture.read_point_cloud(cube)
+    paper = detexture.remove_texture(cloud, radius=0.09, surface_split_max_angle_deg=180)
+    split = detexture.remove_texture(cloud, radius=0.09)
+    assert np.array_equal(detexture.read_point_cloud(out).positions, paper.positions)
+    assert paper.report.surface_split_neighbors == 0
+    assert split.report.surface_split_neighbors > 0
+    assert not np.array_equal(paper.normals, split.normals)
+
+
 def cli_error(*args):
     r = run_cli(*args, check=False)
     assert r.returncode != 0

@@ -33,6 +33,37 @@ def test_detect_texture_finds_the_bump():
         detexture.detect_texture(P[:10], R, lambda_=0.002)
 
 
+def test_surface_split_parts_a_concave_crease():
+    # A floor (z = 0, normals up) meeting a wall (x = 0.5, normals along -x):
+    # never back to back, so only the split after detection parts them.
+    g = np.linspace(0, 1, 41)
+    floor = np.array([(x, y, 0.0) for x in g[g <= 0.5] for y in g])
+    wall = np.array([(0.5, y, z) for z in g[(g > 0) & (g <= 0.5)] for y in g])
+    P = np.vstack([floor, wall])
+    N = np.vstack([np.tile([0.0, 0.0, 1.0], (len(floor), 1)),
+                   np.tile([-1.0, 0.0, 0.0], (len(wall), 1))])
+    R = detexture.radius_neighborhoods(P, 0.08)
+    t = detexture.detect_texture(P, R, N, lambda_=0.002, surface_normals=True)
+    assert "surface_normal" not in detexture.detect_texture(P, R, N, lambda_=0.002)
+    assert not t["is_texture"].any()  # two planes: the crease is surface
+    # Off the crease line (where both faces are at distance 0) each point's
+    # surface is its own face.
+    off_crease = np.hypot(P[:, 0] - 0.5, P[:, 2]) > 0.01
+    assert np.allclose(t["surface_normal"][off_crease], N[off_crease], atol=1e-3)
+    on_floor = P[:, 2] == 0
+    across = sum(on_floor[i] != on_floor[j] for i in range(len(P)) for j in R[i])
+    assert across > 0
+    kept, removed = detexture.drop_neighbors_across_surfaces(R, N, t["surface_normal"],
+                                                             t["is_texture"])
+    assert removed == across
+    assert all(on_floor[i] == on_floor[j] for i in range(len(P)) for j in kept[i])
+    assert detexture.drop_neighbors_across_surfaces(R, N, t["surface_normal"], t["is_texture"],
+                                                    max_angle_deg=180)[1] == 0
+    with pytest.raises(ValueError, match="surface split angle"):
+        detexture.drop_neighbors_across_surfaces(R, N, t["surface_normal"], t["is_texture"],
+                                                 max_angle_deg=0)
+
+
 def test_filters_and_update_flatten_the_bump():
     P, N, h = bumpy_plane()
     R = detexture.radius_neighborhoods(P, 0.08)

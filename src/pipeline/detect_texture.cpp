@@ -394,6 +394,8 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   TextureDetection out;
   out.inliers.assign(n, 0);
   out.height.assign(n, 0.0f);
+  const bool want_normals = params.surface_normals;
+  if (want_normals) out.surface_normal = Normals::Zero(static_cast<Eigen::Index>(n), 3);
   float* height = out.height.data();
   out.members.assign(n, 0);
   std::uint32_t* T = out.inliers.data();
@@ -532,9 +534,26 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
       {
         // p_i itself sits at q = 0 relative to its own models.
         float h = std::abs(surface.plane.d);
-        for (int e = 0; e < further_count; ++e)
-          h = std::min(h, std::abs(further_found[static_cast<std::size_t>(e)].d));
+        // The model's normal at q = 0: the plane's, tilted by the quadric's
+        // slope there (e, f) when it is bent.
+        Eigen::Vector3f normal(surface.plane.nx, surface.plane.ny, surface.plane.nz);
+        if (surface.curved)
+          normal -= surface.e * Eigen::Vector3f(surface.e1x, surface.e1y, surface.e1z) +
+                    surface.f * Eigen::Vector3f(surface.e2x, surface.e2y, surface.e2z);
+        for (int e = 0; e < further_count; ++e) {
+          const PlaneTest& f = further_found[static_cast<std::size_t>(e)];
+          if (std::abs(f.d) < h) {
+            h = std::abs(f.d);
+            normal = Eigen::Vector3f(f.nx, f.ny, f.nz);
+          }
+        }
         height[i] = h;
+        if (want_normals) {
+          normal.normalize();
+          if (with_normals && normal.cast<double>().dot(point_normals.row(i).transpose()) < 0.0)
+            normal = -normal;
+          out.surface_normal.row(static_cast<Eigen::Index>(i)) = normal.cast<double>().transpose();
+        }
       }
       const int planes_kept = 1 + further_count;
       if (gather) {

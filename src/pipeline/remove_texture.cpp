@@ -107,6 +107,7 @@ void validate(const RemoveTextureParams& p) {
   r.sigma_s = 1.0;
   validate(r);
   validate(p.sheets);
+  validate(p.surface_split);
   ShrinkToThinPartsParams thin = p.thin_parts;
   thin.radius = 1.0;
   validate(thin);
@@ -365,7 +366,15 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     DetectTextureParams tp = params.texture;
     tp.lambda = rep.lambda;
     tp.min_surface_radius = params.min_surface_radius.resolve(rep.diagonal, rep.radius);
+    // Clouds only: on meshes the mesh-path limit keeps R_i on its sheet.
+    const bool split = T.rows() == 0 && params.surface_split.max_angle_deg < 180.0;
+    tp.surface_normals = split;
     TextureDetection det = detect_texture(P, result.input_normals, R, tp, clock.progress());
+    if (split) {
+      rep.surface_split_neighbors = drop_neighbors_across_surfaces(
+          R, result.input_normals, det.surface_normal, det.is_texture, params.surface_split);
+      Normals().swap(det.surface_normal);
+    }
     result.is_texture = std::move(det.is_texture);
     omega = std::move(det.omega);
     rep.texture_points = det.texture_points;

@@ -41,6 +41,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.normals_degenerate += t.normals_degenerate;
   r.normals_flipped += t.normals_flipped;
   r.opposite_neighbors += t.opposite_neighbors;
+  r.surface_split_neighbors += t.surface_split_neighbors;
   for (const std::uint8_t x : tile.is_texture) r.texture_points += x;
   r.no_plane += t.no_plane;
   r.ransac_mean_iterations += t.ransac_mean_iterations * core;  // divided by the caller

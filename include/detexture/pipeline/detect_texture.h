@@ -145,6 +145,8 @@ struct DetectTextureParams {
   SubneighborhoodMode subneighborhood = SubneighborhoodMode::Soft;
   /// Soft: vote share T/N at or below which ω = 0, in [0, δ).
   double soft_floor = 0.3;
+  /// Also return each point's surface normal (TextureDetection::surface_normal).
+  bool surface_normals = false;
 };
 
 struct TextureDetection {
@@ -156,6 +158,11 @@ struct TextureDetection {
   /// (the nearest of its models): the height of the texture at p_i as seen
   /// at scale r; 0 where no plane was found.
   std::vector<float> height;
+  /// #P by 3 when DetectTextureParams::surface_normals, else empty: the unit
+  /// normal at p_i of the same nearest model (the underlying surface's normal
+  /// under texture: the base of a bump, not its flank), signed like p_i's
+  /// normal when normals are given; zero where no plane was found.
+  Normals surface_normal;
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;      ///< neighborhoods with fewer than 3 points or collinear
   double mean_iterations = 0.0;  ///< RANSAC tries per neighborhood

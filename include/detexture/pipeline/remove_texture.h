@@ -20,6 +20,7 @@
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/geometry/shrink_to_thin_parts.h"
 #include "detexture/pipeline/detect_texture.h"
+#include "detexture/pipeline/drop_neighbors_across_surfaces.h"
 #include "detexture/pipeline/estimate_texture_scale.h"
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
@@ -123,6 +124,11 @@ struct RemoveTextureParams {
   /// Neighbors facing away from p_i by more than this angle are on another
   /// sheet of a thin part and leave R_i (drop_opposite_neighbors.h).
   DropOppositeNeighborsParams sheets;
+  /// Clouds, after texture detection: pairs of neighbors neither of which
+  /// lies on the other's underlying surface leave R_i
+  /// (drop_neighbors_across_surfaces.h; 180° keeps them, the paper). Meshes
+  /// keep theirs: the mesh-path limit below keeps R_i on its sheet.
+  DropNeighborsAcrossSurfacesParams surface_split;
   /// On parts thinner than r (limbs, fingers), R_i shrinks to the distance of
   /// the part's back, but not below min_radius_fraction × r
   /// (shrink_to_thin_parts.h; 1 = the paper). Its radius is filled from r.
@@ -201,15 +207,16 @@ struct RemoveTextureReport {
   double radius = 0.0, lambda = 0.0, sigma_s = 0.0, sigma_p = 0.0;  ///< resolved lengths
   NeighborhoodStats neighbors;  ///< of R_i; sparse = fewer than 3 neighbors
   bool normals_estimated = false;
-  std::size_t normals_reestimated = 0;     ///< zero-length input normals re-estimated
-  std::size_t normals_degenerate = 0;      ///< normals that could not be estimated (left zero)
-  std::size_t normals_flipped = 0;         ///< by orientation
-  double orientation_inconsistency = 0.0;  ///< of the normals fed to the filters
-  std::size_t opposite_neighbors = 0;      ///< (i, j) pairs dropped as another sheet
-  std::size_t thin_part_points = 0;        ///< points whose R_i shrank to a thin part
-  std::size_t thin_part_neighbors = 0;     ///< (i, j) entries that left R_i with it
-  std::size_t mesh_path_points = 0;        ///< points whose R_i lost vertices far along the mesh
-  std::size_t mesh_path_neighbors = 0;     ///< (i, j) entries that left R_i with them
+  std::size_t normals_reestimated = 0;      ///< zero-length input normals re-estimated
+  std::size_t normals_degenerate = 0;       ///< normals that could not be estimated (left zero)
+  std::size_t normals_flipped = 0;          ///< by orientation
+  double orientation_inconsistency = 0.0;   ///< of the normals fed to the filters
+  std::size_t opposite_neighbors = 0;       ///< (i, j) pairs dropped as another sheet
+  std::size_t surface_split_neighbors = 0;  ///< (i, j) entries dropped as another surface
+  std::size_t thin_part_points = 0;         ///< points whose R_i shrank to a thin part
+  std::size_t thin_part_neighbors = 0;      ///< (i, j) entries that left R_i with it
+  std::size_t mesh_path_points = 0;         ///< points whose R_i lost vertices far along the mesh
+  std::size_t mesh_path_neighbors = 0;      ///< (i, j) entries that left R_i with them
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;
   double ransac_mean_iterations = 0.0;
