@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <stdexcept>
 
 #include "detexture/pipeline/detect_texture.h"
@@ -69,7 +71,9 @@ TEST(DropNeighborsAcrossSurfaces, KeepsTheFlankOfABumpAndPartsATip) {
   // Every point keeps itself, also the flank 80° from its own surface.
   for (std::size_t i = 0; i < 4; ++i) EXPECT_TRUE(has(R, i, static_cast<std::uint32_t>(i)));
   EXPECT_EQ(removed, 8u);  // four pairs, both ways
-  EXPECT_TRUE(R.symmetric);
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::uint32_t j = 0; j < 4; ++j)
+      EXPECT_EQ(has(R, i, j), has(R, j, static_cast<std::uint32_t>(i))) << i << ", " << j;
 }
 
 TEST(DropNeighborsAcrossSurfaces, AngleOf180KeepsAllAndWiderAnglesKeepMore) {
@@ -96,6 +100,13 @@ TEST(DropNeighborsAcrossSurfaces, ZeroNormalsAreKept) {
   // 1 has no reference: the pair stays.
   EXPECT_TRUE(has(R, 1, 3));
   EXPECT_FALSE(has(R, 0, 3));
+  // A texture point without a normal of its own (but with a surface under
+  // it) is judged by nobody: every pair with it stays.
+  Four g = tip_and_bump();
+  g.N.row(3).setZero();
+  Neighborhoods S = everyone(g.P);
+  drop_neighbors_across_surfaces(S, g.N, g.S, g.tex, {});
+  for (std::uint32_t j : {0u, 1u, 2u}) EXPECT_TRUE(has(S, 3, j) && has(S, j, 3)) << j;
 }
 
 TEST(DropNeighborsAcrossSurfaces, RejectsBadInput) {
@@ -131,6 +142,54 @@ TEST(DropNeighborsAcrossSurfaces, SurfaceNormalsOfABumpAreTheFaceUnderIt) {
     }
     EXPECT_GT(steep, 10u) << "the bump must have steep flanks for the test to mean anything";
   }
+}
+
+// A point on a flank turned past 90° (an overhang: its normal 100° from the
+// face's) still has the face, signed up, as its surface: its own normal is
+// within 30° of the face's plane, so the face's points decide the sign.
+TEST(DropNeighborsAcrossSurfaces, SurfaceUnderAnOverhangIsSignedByTheFace) {
+  auto s = test::bumpy_plane(41, 0.0, 1.0);
+  const Eigen::Index p = 20 * 41 + 20;  // the middle
+  const double t = 100.0 * M_PI / 180.0;
+  s.N.row(p) << std::sin(t), 0.0, std::cos(t);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  DetectTextureParams params;
+  params.lambda = 0.002;
+  params.surface_normals = true;
+  const TextureDetection det = detect_texture(s.P, s.N, R, params);
+  EXPECT_LT(test::angle_deg(det.surface_normal.row(p), Eigen::RowVector3d(0, 0, 1)), 1.0);
+}
+
+// On a curved base seen from one side only (R_i a half disk), the plane
+// fitted to R_i leans towards the half's middle; the quadric's slope at
+// p_i (e, f) turns the surface normal back to the sphere's radial normal.
+TEST(DropNeighborsAcrossSurfaces, SurfaceNormalsFollowACurvedBaseSeenFromOneSide) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
+  keep_neighbors(R, [&](std::size_t i, std::uint32_t j) {
+    const Eigen::RowVector3d side = Eigen::RowVector3d(0, 0, 1).cross(s.N.row(i));
+    return j == i || (s.P.row(j) - s.P.row(i)).dot(side) >= 0.0;
+  });
+  R.symmetric = false;
+  DetectTextureParams params;
+  params.lambda = 0.005;
+  params.surface_normals = true;
+  params.min_surface_radius = 0.5;
+  double quadric_worst = 0.0, plane_mean = 0.0;
+  std::size_t counted = 0;
+  const TextureDetection quadric = detect_texture(s.P, s.N, R, params);
+  params.surface = UnderlyingSurface::Plane;
+  const TextureDetection plane = detect_texture(s.P, s.N, R, params);
+  for (Eigen::Index i = 0; i < s.P.rows(); i += 50) {
+    if (std::abs(s.N(i, 2)) > 0.8) continue;  // near the poles "side" degenerates
+    quadric_worst =
+        std::max(quadric_worst, test::angle_deg(quadric.surface_normal.row(i), s.N.row(i)));
+    plane_mean += test::angle_deg(plane.surface_normal.row(i), s.N.row(i));
+    ++counted;
+  }
+  ASSERT_GT(counted, 100u);
+  EXPECT_LT(quadric_worst, 1.5);
+  EXPECT_GT(plane_mean / counted, 4.0);
 }
 
 }  // namespace

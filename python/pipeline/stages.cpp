@@ -90,7 +90,7 @@ void bind_stages(py::module_& m) {
       [](const Neighborhoods& R, const py::object& normals, const py::object& surface_normals,
          const py::object& is_texture, double max_angle_deg) {
         const Normals N = to_matrix3(normals, "normals");
-        const Normals S = to_matrix3(surface_normals, "surface_normals", true);
+        const Normals S = to_matrix3(surface_normals, "surface_normals");
         const std::vector<std::uint8_t> t =
             to_vector<std::uint8_t>(is_texture, "is_texture", R.size());
         Neighborhoods kept = R;

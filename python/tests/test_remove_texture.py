@@ -67,6 +67,7 @@ def test_defaults_and_docs_come_from_the_cpp_struct():
     assert d["texture_delta"] == 0.8 and d["texture_planes"] == 3 and d["threads"] == 0
     assert d["update_mode"] == detexture.UpdateMode.Global
     assert "update_max_move" not in d and "texture_lambda" not in d  # filled from above
+    assert "texture_surface_normals" not in d
     doc = detexture.remove_texture.__doc__
     assert doc.startswith("remove_texture(points, normals=None, *, radius='1.5t',")
     assert "texture_delta : float, default 0.8" in doc
@@ -110,6 +111,7 @@ def test_surface_split_matches_the_command_line(cube, work):
     assert paper.report.surface_split_neighbors == 0
     assert split.report.surface_split_neighbors > 0
     assert not np.array_equal(paper.normals, split.normals)
+    assert not np.array_equal(paper.positions, split.positions)
 
 
 def cli_error(*args):

@@ -550,8 +550,23 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         height[i] = h;
         if (want_normals) {
           normal.normalize();
-          if (with_normals && normal.cast<double>().dot(point_normals.row(i).transpose()) < 0.0)
-            normal = -normal;
+          // Signed like p_i's normal where that is clearly on one side (the
+          // models of a thin plate may hold the other sheet's points, whose
+          // normals point the other way); where p_i's normal is within 30°
+          // of the model's plane, as at the foot of a hemisphere whose flank
+          // turns past 90°, like the normals of the points the models hold.
+          float side = 0.0f;
+          if (with_normals) {
+            side = static_cast<float>(normal.cast<double>().dot(point_normals.row(i).transpose()));
+            if (std::abs(side) < 0.5f) {
+              float held = 0.0f;
+              for (std::uint32_t t = 0; t < k; ++t)
+                if (inlier[t])
+                  held += normal.x() * all.nx[t] + normal.y() * all.ny[t] + normal.z() * all.nz[t];
+              if (held != 0.0f) side = held;
+            }
+          }
+          if (side < 0.0f) normal = -normal;
           out.surface_normal.row(static_cast<Eigen::Index>(i)) = normal.cast<double>().transpose();
         }
       }

@@ -161,7 +161,9 @@ struct TextureDetection {
   /// #P by 3 when DetectTextureParams::surface_normals, else empty: the unit
   /// normal at p_i of the same nearest model (the underlying surface's normal
   /// under texture: the base of a bump, not its flank), signed like p_i's
-  /// normal when normals are given; zero where no plane was found.
+  /// normal when normals are given (like the normals of the points the
+  /// models hold where p_i's is within 30° of the model's plane, as on a
+  /// flank turning past 90°); zero where no plane was found.
   Normals surface_normal;
   std::size_t texture_points = 0;
   std::size_t no_plane = 0;      ///< neighborhoods with fewer than 3 points or collinear
