@@ -27,8 +27,8 @@
 //
 // 60° was measured against 45-55° and against splitting every pair past the
 // angle (`--sheet-any-pair`), on both quality suites (bench/RESULTS.md): at
-// 60°, on the real shapes, normal error −8% on the bull, −5% on the spider,
-// −4% on the engine, and no case of either suite worse by more than 0.4%;
+// 60°, on the real shapes, normal error −8% on the bull, −6% on the spider,
+// −5% on the engine, and no case of either suite worse by more than 0.3%;
 // at 45-55° the real shapes gain more but the torus with waves loses 9-58%.
 #pragma once
 
