@@ -394,8 +394,11 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   TextureDetection out;
   out.inliers.assign(n, 0);
   out.height.assign(n, 0.0f);
+  // The surface normals are computed in float and kept so (12 bytes per
+  // point instead of 24) while the per-point models, this stage's peak
+  // memory, are alive; they become doubles, bit for bit, at the end.
   const bool want_normals = params.surface_normals;
-  if (want_normals) out.surface_normal = Normals::Zero(static_cast<Eigen::Index>(n), 3);
+  std::vector<float> surface_normal(want_normals ? 3 * n : 0, 0.0f);
   float* height = out.height.data();
   out.members.assign(n, 0);
   std::uint32_t* T = out.inliers.data();
@@ -567,7 +570,8 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
             }
           }
           if (side < 0.0f) normal = -normal;
-          out.surface_normal.row(static_cast<Eigen::Index>(i)) = normal.cast<double>().transpose();
+          for (int c = 0; c < 3; ++c)
+            surface_normal[3 * i + static_cast<std::size_t>(c)] = normal[c];
         }
       }
       const int planes_kept = 1 + further_count;
@@ -671,6 +675,15 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   }
   out.no_plane = no_plane;
   out.mean_iterations = n ? total_tries / static_cast<double>(n) : 0.0;
+  if (want_normals) {
+    std::vector<SurfaceTest>().swap(first_plane);
+    std::vector<std::uint8_t>().swap(kept_count);
+    out.surface_normal.resize(static_cast<Eigen::Index>(n), 3);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c)
+        out.surface_normal(static_cast<Eigen::Index>(i), c) =
+            static_cast<double>(surface_normal[3 * i + static_cast<std::size_t>(c)]);
+  }
   return out;
 }
 
