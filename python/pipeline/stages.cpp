@@ -7,6 +7,8 @@
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
 
+#include <utility>
+
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/pipeline/detect_texture.h"
 #include "detexture/pipeline/drop_neighbors_across_surfaces.h"
@@ -25,6 +27,18 @@ void check_neighborhoods(const Matrix3& P, const Neighborhoods& R) {
     throw py::value_error("the neighborhoods are of " + std::to_string(R.size()) +
                           " points but there are " + std::to_string(P.rows()) +
                           "; build them on these points (radius_neighborhoods)");
+}
+
+// Points and their normals for a stage run on neighborhoods R, checked
+// against each other and against R.
+std::pair<Positions, Normals> points_and_normals(const py::object& points,
+                                                 const py::object& normals,
+                                                 const Neighborhoods& R) {
+  Positions P = to_matrix3(points, "points");
+  Normals N = to_matrix3(normals, "normals");
+  check_rows(P, N, "normals");
+  check_neighborhoods(P, R);
+  return {std::move(P), std::move(N)};
 }
 
 std::vector<float> omega_of(const py::object& omega, std::size_t n) {
@@ -124,10 +138,7 @@ void bind_stages(py::module_& m) {
         const auto params =
             params_from_kwargs<FilterNormalsGaussianParams>(kwargs, "filter_normals_gaussian");
         validate(params);
-        const Positions P = to_matrix3(points, "points");
-        const Normals N = to_matrix3(normals, "normals");
-        check_rows(P, N, "normals");
-        check_neighborhoods(P, R);
+        const auto [P, N] = points_and_normals(points, normals, R);
         const std::vector<float> w = omega_of(omega, R.size());
         if (w.empty() && params.use_subneighborhood)
           throw py::value_error("omega is needed when use_subneighborhood is True");
@@ -188,10 +199,7 @@ void bind_stages(py::module_& m) {
          const py::object& is_texture, const py::kwargs& kwargs) {
         const auto params = params_from_kwargs<UpdatePositionsParams>(kwargs, "update_positions");
         validate(params);
-        const Positions P = to_matrix3(points, "points");
-        const Normals N = to_matrix3(normals, "normals");
-        check_rows(P, N, "normals");
-        check_neighborhoods(P, R);
+        const auto [P, N] = points_and_normals(points, normals, R);
         const std::vector<std::uint8_t> t =
             is_texture.is_none() ? std::vector<std::uint8_t>()
                                  : to_vector<std::uint8_t>(is_texture, "is_texture", R.size());
@@ -223,10 +231,7 @@ void bind_stages(py::module_& m) {
         const auto params =
             params_from_kwargs<FitNormalsToPositionsParams>(kwargs, "fit_normals_to_positions");
         validate(params);
-        const Positions P = to_matrix3(points, "points");
-        const Normals N = to_matrix3(normals, "normals");
-        check_rows(P, N, "normals");
-        check_neighborhoods(P, R);
+        const auto [P, N] = points_and_normals(points, normals, R);
         FitNormalsToPositionsResult f;
         {
           py::gil_scoped_release release;

@@ -678,11 +678,9 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
   if (want_normals) {
     std::vector<SurfaceTest>().swap(first_plane);
     std::vector<std::uint8_t>().swap(kept_count);
-    out.surface_normal.resize(static_cast<Eigen::Index>(n), 3);
-    for (std::size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c)
-        out.surface_normal(static_cast<Eigen::Index>(i), c) =
-            static_cast<double>(surface_normal[3 * i + static_cast<std::size_t>(c)]);
+    out.surface_normal = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                             surface_normal.data(), static_cast<Eigen::Index>(n), 3)
+                             .cast<double>();
   }
   return out;
 }
