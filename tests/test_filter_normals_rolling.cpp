@@ -10,7 +10,11 @@ namespace {
 
 // A 90-degree crease: the Gaussian blurs it over a band of width ~2r; the
 // rolling iterations bring it back, so that every normal off the crease line
-// itself is within a few degrees of its face's normal.
+// itself is within a few degrees of its face's normal. This needs σr well
+// under the crease's angle: at σr = 30° it comes back; at the default 45° it
+// stays blurred (measured: 44° off next to it), and remove_texture keeps
+// such creases by parting the faces' neighborhoods instead
+// (RemoveTexture.FoldKeepsItsCreaseAtTheDefaults).
 TEST(FilterNormalsRolling, RecoversCreaseBlurredByGaussian) {
   const auto s = test::folded_plane(81, 90.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.06, 0});
@@ -20,6 +24,7 @@ TEST(FilterNormalsRolling, RecoversCreaseBlurredByGaussian) {
   const GaussianFilterResult g = filter_normals_gaussian(s.P, s.N, R, {}, gp);
   FilterNormalsRollingParams rp;
   rp.sigma_s = 0.06;
+  rp.sigma_r_deg = 30.0;
   rp.use_subneighborhood = false;
   const RollingFilterResult r = filter_normals_rolling(s.P, s.N, g.normals, R, {}, rp);
   double worst_gauss = 0.0, worst_rolling = 0.0;

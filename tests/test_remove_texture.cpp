@@ -45,6 +45,32 @@ TEST(RemoveTexture, BumpOnPlaneGoesBackToThePlane) {
   EXPECT_LT((r.texture_height - (s.P.col(2) - r.positions.col(2))).cwiseAbs().maxCoeff(), 1e-3);
 }
 
+// Creases at the defaults: a plane folded by 75°, 90° and 105°, no texture.
+// The rolling filter alone would leave them blurred at the default σr
+// (FilterNormalsRolling.RecoversCreaseBlurredByGaussian); the surface split
+// parts the two faces' neighborhoods, so every normal off the crease line is
+// its face's. Without the split (the paper's R_i, and its filtered output
+// normals) the crease blurs.
+TEST(RemoveTexture, FoldKeepsItsCreaseAtTheDefaults) {
+  for (const double fold : {75.0, 90.0, 105.0}) {
+    SCOPED_TRACE("fold " + std::to_string(fold));
+    const auto s = test::folded_plane(81, fold);
+    RemoveTextureParams p = params_for(0.06, 0.003);
+    const RemoveTextureResult r = remove_texture(s.P, s.N, p);
+    p.surface_split.max_angle_deg = 180.0;
+    p.fit_normals = false;
+    const RemoveTextureResult paper = remove_texture(s.P, s.N, p);
+    double worst = 0.0, worst_paper = 0.0;
+    for (int i = 0; i < s.P.rows(); ++i) {
+      if (std::abs(s.P(i, 0) - 0.5) < 0.005) continue;
+      worst = std::max(worst, test::angle_deg(r.normals.row(i), s.N.row(i)));
+      worst_paper = std::max(worst_paper, test::angle_deg(paper.normals.row(i), s.N.row(i)));
+    }
+    EXPECT_LT(worst, 1.0);
+    EXPECT_GT(worst_paper, 5.0);
+  }
+}
+
 // A thin plate: the bumpy sheet above (bump 0.02 high, 0.015 wide) and a flat
 // sheet 0.03 below facing down. r = 0.06 reaches through, so without
 // separating the sheets every filter averages opposite normals and the
