@@ -207,6 +207,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
+  add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
       r.ransac_mean_iterations);
   add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
@@ -484,16 +485,25 @@ int run_detexture(int argc, char** argv) {
                  "sit from the surface fitted to their neighborhood (noise, wave flanks), with "
                  "a Gaussian fall-off of this multiple of λ; 0 holds them all fully")
       ->capture_default_str();
-  std::map<std::string, bool> output_normal_modes{{"fitted", true}, {"filtered", false}};
-  app.add_option("--output-normals", params.fit_normals,
-                 "Clouds: filtered (the paper: the filtered normals, smoothed at σs) or fitted "
-                 "(the normals of the output surface: a weighted plane fit to the output "
-                 "points, guided by the filtered normals; better on smooth or faceted shapes "
-                 "with sparse features, worse where dense waves or grooves remain). Meshes "
-                 "take theirs from the output's faces")
+  enum class OutputNormals { Filtered, Fitted, Blended };
+  const std::map<std::string, OutputNormals> output_normal_modes{
+      {"filtered", OutputNormals::Filtered},
+      {"fitted", OutputNormals::Fitted},
+      {"blended", OutputNormals::Blended}};
+  OutputNormals output_normals = !params.fit_normals ? OutputNormals::Filtered
+                                 : params.output_normals.blend_high_deg > 0.0
+                                     ? OutputNormals::Blended
+                                     : OutputNormals::Fitted;
+  app.add_option("--output-normals", output_normals,
+                 "Clouds: blended (the normals of the output surface, a weighted plane fit to "
+                 "the output points guided by the filtered normals, taken where it agrees with "
+                 "the filtered normals around the point and the filtered normals where waves, "
+                 "grooves or noise left in the positions make them disagree), fitted (the fit "
+                 "everywhere) or filtered (the paper: the filtered normals, smoothed at σs). "
+                 "Meshes take theirs from the output's faces")
       ->transform(CLI::CheckedTransformer(output_normal_modes, CLI::ignore_case).description(""))
       ->type_name("MODE")
-      ->default_str(params.fit_normals ? "fitted" : "filtered");
+      ->default_str(name_of(output_normal_modes, output_normals));
   add_length(app, "--fit-sigma", params.fit_sigma,
              "Fitted output normals: spatial scale of the fit's weights (neighbors within "
              "--solve-radius take part)");
@@ -504,6 +514,14 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")
+      ->capture_default_str();
+  app.add_option("--blend-low", params.output_normals.blend_low_deg,
+                 "Blended output normals: where the fit and the filtered normals differ by "
+                 "at most this mean angle around a point (degrees), the fit is taken")
+      ->capture_default_str();
+  app.add_option("--blend-high", params.output_normals.blend_high_deg,
+                 "Blended output normals: from this mean angle on (degrees), the filtered "
+                 "normal; linearly between the two")
       ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
@@ -573,6 +591,8 @@ int run_detexture(int argc, char** argv) {
   tiling.memory_limit_given = app.count("--memory-limit") > 0;
   ProgressPrinter printer(quiet);
   try {
+    params.fit_normals = output_normals != OutputNormals::Filtered;
+    if (output_normals == OutputNormals::Fitted) params.output_normals.blend_high_deg = 0.0;
     params.gaussian.use_subneighborhood = !no_subneighborhood;
     if (no_subneighborhood) params.rolling.use_subneighborhood = false;
     params.rolling.guidance.blend = !no_blend;

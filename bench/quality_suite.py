@@ -245,7 +245,7 @@ DETEXTURE_VARIANTS = [
     ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
                      "--thin-part-radius", "1", "--guidance", "patch-shift",
-                     "--surface-split-angle", "180"],
+                     "--surface-split-angle", "180", "--output-normals", "filtered"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("full-anchors", ["--anchor-height", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
@@ -254,8 +254,12 @@ DETEXTURE_VARIANTS = [
      "R_i not split after texture detection: points past a tip or a rim stay in each other's "
      "R_i unless back to back (before session 8)"),
     ("fitted-normals", ["--output-normals", "fitted"],
-     "output normals fitted to the output positions (fit_normals_to_positions.h; an option, "
-     "not the default)"),
+     "output normals fitted to the output positions everywhere, without the blend "
+     "(fit_normals_to_positions.h; an option)"),
+    ("filtered-normals", ["--output-normals", "filtered"],
+     "the filtered normals as output normals, as the paper (the default before session 9)"),
+    ("sigma-r-30", ["--sigma-r", "30", "--move-limit", "1.5"],
+     "σr 30° and the move limit at 1.5 × the texture height (the defaults before session 9)"),
     ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
 
@@ -358,7 +362,7 @@ def peer_args(peer, params, case, points, threads=None):
 RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
-    "full-anchors": 0.15, "fitted-normals": 0.15,
+    "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

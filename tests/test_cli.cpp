@@ -183,19 +183,40 @@ TEST_F(Cli, NeverOverwritesWithoutAsking) {
   EXPECT_EQ(run(path("in.ply") + " -o " + path("taken.ply") + " -r 0.2 --force"), 0);
 }
 
-TEST_F(Cli, FittedOutputNormalsChangeOnlyTheNormals) {
+TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   write_point_cloud(path("in.ply"), bumpy(true));
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("a.ply") + " -r 0.2"), 0) << stderr_;
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("b.ply") + " -r 0.2 --output-normals fitted" +
-                " --stats " + path("b.json")),
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("default.ply") + " -r 0.2"), 0) << stderr_;
+  for (const char* mode : {"blended", "fitted", "filtered"})
+    ASSERT_EQ(
+        run(path("in.ply") + " -o " + path(std::string(mode) + ".ply") +
+            " -r 0.2 --output-normals " + mode + " --stats " + path(mode + std::string(".json"))),
+        0)
+        << mode << ": " << stderr_;
+  // A blend window closed to almost nothing keeps the filtered normals
+  // nearly everywhere; --output-normals fitted ignores it.
+  const std::string narrow = " -r 0.2 --blend-low 0 --blend-high 0.001";
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("fitted_narrow.ply") + narrow +
+                " --output-normals fitted"),
             0)
       << stderr_;
-  const PointCloud a = read_point_cloud(path("a.ply")), b = read_point_cloud(path("b.ply"));
-  EXPECT_EQ(a.positions, b.positions);
-  EXPECT_NE(a.normals, b.normals);
-  std::ifstream stats(path("b.json"));
+  const PointCloud d = read_point_cloud(path("default.ply")),
+                   b = read_point_cloud(path("blended.ply")),
+                   f = read_point_cloud(path("fitted.ply")),
+                   p = read_point_cloud(path("filtered.ply")),
+                   n = read_point_cloud(path("narrow.ply")),
+                   fn = read_point_cloud(path("fitted_narrow.ply"));
+  EXPECT_EQ(d.normals, b.normals) << "blended is the default";
+  EXPECT_EQ(b.positions, p.positions);
+  EXPECT_EQ(f.positions, p.positions);
+  EXPECT_NE(b.normals, p.normals);
+  EXPECT_NE(f.normals, p.normals);
+  EXPECT_NE(n.normals, f.normals) << "--blend-low/--blend-high reach the blend";
+  EXPECT_EQ(fn.normals, f.normals);
+  std::ifstream stats(path("blended.json"));
   const std::string json((std::istreambuf_iterator<char>(stats)), {});
   EXPECT_NE(json.find("\"normals_not_fitted\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
 }
 
 TEST_F(Cli, BadParametersAreUsageErrors) {
@@ -203,7 +224,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
   for (const char* args :
        {"--delta 2", "--radius abc", "--radius -1", "--sigma-r 0", "--update sideways",
         "--planes 4", "--threads -1", "--bogus", "--output-normals smooth", "--fit-sigma 0",
-        "--fit-max-turn 0", "--fit-range-sigma -1"}) {
+        "--fit-max-turn 0", "--fit-range-sigma -1", "--blend-high -1",
+        "--blend-low 3 --blend-high 2"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <stdexcept>
 
 #include "detexture/pipeline/remove_texture.h"
@@ -11,10 +13,19 @@
 namespace detexture {
 namespace {
 
+// The fit alone (no blend), the stage's core.
 FitNormalsToPositionsParams params_at(double sigma, double radius) {
   FitNormalsToPositionsParams p;
   p.sigma = sigma;
   p.radius = radius;
+  p.blend_high_deg = 0.0;
+  return p;
+}
+
+// The same with the default blend.
+FitNormalsToPositionsParams blended_at(double sigma, double radius) {
+  FitNormalsToPositionsParams p = params_at(sigma, radius);
+  p.blend_high_deg = FitNormalsToPositionsParams().blend_high_deg;
   return p;
 }
 
@@ -40,6 +51,74 @@ TEST(FitNormalsToPositions, SphereNormalsComeFromThePositions) {
   for (int i = 0; i < s.P.rows(); ++i)
     worst = std::max(worst, test::angle_deg(fit.normals.row(i), s.N.row(i)));
   EXPECT_LT(worst, 0.5);
+}
+
+// Tilt every row of N by `deg` degrees within its tangent plane, so that
+// each row turns by exactly that angle.
+Normals tilted_in_tangent_plane(const Normals& N, double deg) {
+  const double t = deg * M_PI / 180.0;
+  const Eigen::RowVector3d axis = Eigen::RowVector3d(0.3, 0.5, 0.8).normalized();
+  Normals out(N.rows(), 3);
+  for (int i = 0; i < N.rows(); ++i) {
+    Eigen::RowVector3d e = N.row(i).cross(axis);
+    if (e.norm() < 1e-6) e = N.row(i).cross(Eigen::RowVector3d::UnitX());
+    out.row(i) = std::cos(t) * N.row(i) + std::sin(t) * e.normalized();
+  }
+  return out;
+}
+
+// The blend on a sphere whose positions are exact, so that the fit is the
+// radial normal and turns from the guide by the guide's tilt everywhere:
+// 0.5° (under blend_low = 1°) takes the fit, 10° (past blend_high = 2°)
+// keeps the guide, 1.5° mixes them about half and half.
+TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  const FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
+  ASSERT_EQ(p.blend_low_deg, 1.0);
+  ASSERT_EQ(p.blend_high_deg, 2.0);
+  const auto rows = static_cast<std::size_t>(s.P.rows());
+  for (const double tilt : {0.5, 1.5, 10.0}) {
+    SCOPED_TRACE("tilt " + std::to_string(tilt));
+    const Normals guide = tilted_in_tangent_plane(s.N, tilt);
+    const FitNormalsToPositionsResult fit = fit_normals_to_positions(s.P, guide, R, p);
+    const FitNormalsToPositionsResult pure =
+        fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+    if (tilt == 0.5) {
+      EXPECT_EQ(fit.blended, 0u);
+      EXPECT_TRUE(fit.normals == pure.normals);
+    } else if (tilt == 10.0) {
+      EXPECT_EQ(fit.blended, rows);
+      EXPECT_TRUE(fit.normals.isApprox(guide, 1e-12));
+    } else {
+      EXPECT_EQ(fit.blended, rows);
+      for (int i = 0; i < s.P.rows(); ++i) {
+        EXPECT_GT(test::angle_deg(fit.normals.row(i), pure.normals.row(i)), 0.4) << i;
+        EXPECT_GT(test::angle_deg(fit.normals.row(i), guide.row(i)), 0.4) << i;
+      }
+    }
+  }
+}
+
+// The blend is local: a flat sheet guided by normals 0.5° off +z, whose
+// positions are flat for x < 0.5 and keep waves (0.01 high, period 0.1) for
+// x > 0.5. On the flat half (away from the waves) the fit, +z, is taken;
+// on the waves the fit follows them and the guide is kept.
+TEST(FitNormalsToPositions, BlendKeepsTheGuideWhereWavesRemain) {
+  auto s = test::bumpy_plane(101, 0.0, 1.0);
+  for (int i = 0; i < s.P.rows(); ++i)
+    if (s.P(i, 0) > 0.5) s.P(i, 2) = 0.01 * std::sin(2.0 * M_PI * (s.P(i, 0) - 0.5) / 0.1);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.05, 0});
+  const Normals guide = tilted(s.N, 0.5);
+  const FitNormalsToPositionsResult fit =
+      fit_normals_to_positions(s.P, guide, R, blended_at(0.015, 0.05));
+  for (int i = 0; i < s.P.rows(); ++i) {
+    if (s.P(i, 0) < 0.4) {
+      EXPECT_LT(test::angle_deg(fit.normals.row(i), Eigen::RowVector3d(0, 0, 1)), 0.01) << i;
+    } else if (s.P(i, 0) > 0.6) {
+      EXPECT_LT(test::angle_deg(fit.normals.row(i), guide.row(i)), 1e-9) << i;
+    }
+  }
 }
 
 // The sign follows the guiding normal, whichever way it points.
@@ -117,6 +196,14 @@ TEST(FitNormalsToPositions, BadInputIsRefused) {
   p = params_at(0.1, 0.1);
   p.max_turn_deg = 200.0;
   EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  p = blended_at(0.1, 0.1);
+  p.blend_high_deg = -1.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  p = blended_at(0.1, 0.1);
+  p.blend_low_deg = p.blend_high_deg;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  p.blend_low_deg = -0.5;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
   EXPECT_THROW(fit_normals_to_positions(s.P, s.N.topRows(5), R, params_at(0.1, 0.1)),
                std::invalid_argument);
   RemoveTextureParams rp;
@@ -124,8 +211,9 @@ TEST(FitNormalsToPositions, BadInputIsRefused) {
   EXPECT_THROW(validate(rp), std::invalid_argument);
 }
 
-// Through remove_texture: the option changes the normals only, and the same
-// on any thread count; on a sphere with bumps the fitted normals are closer
+// Through remove_texture: the output normals (filtered, the paper; fitted;
+// blended, the default) change the normals only, and the same on any thread
+// count; on a sphere with bumps the fitted and the blended normals are closer
 // to the true (radial) ones than the filtered normals are.
 TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   auto s = test::fibonacci_sphere(20000, 1.0);
@@ -137,17 +225,34 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
       if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
     }
   RemoveTextureParams p;
+  ASSERT_TRUE(p.fit_normals) << "blended output normals are the default";
   p.radius = Length{0.15, Length::Unit::Absolute};
   p.threads = 1;
-  const RemoveTextureResult filtered = remove_texture(s.P, Normals(), p);
-  p.fit_normals = true;
-  const RemoveTextureResult fitted = remove_texture(s.P, Normals(), p);
+  const RemoveTextureResult blended = remove_texture(s.P, Normals(), p);
   p.threads = 2;
-  const RemoveTextureResult fitted2 = remove_texture(s.P, Normals(), p);
+  const RemoveTextureResult blended2 = remove_texture(s.P, Normals(), p);
+  p.output_normals.blend_high_deg = 0.0;
+  const RemoveTextureResult fitted = remove_texture(s.P, Normals(), p);
+  p.fit_normals = false;
+  const RemoveTextureResult filtered = remove_texture(s.P, Normals(), p);
   EXPECT_TRUE(fitted.positions == filtered.positions);
-  EXPECT_TRUE(fitted.normals == fitted2.normals);
+  EXPECT_TRUE(blended.positions == filtered.positions);
+  EXPECT_TRUE(blended.normals == blended2.normals);
   EXPECT_FALSE(fitted.normals == filtered.normals);
+  // The output positions are smooth here: the fit agrees with the filtered
+  // normals within blend_low around every point and is taken everywhere.
+  EXPECT_TRUE(blended.normals == fitted.normals);
+  EXPECT_EQ(blended.report.normals_blended, 0u);
   EXPECT_EQ(filtered.report.normals_not_fitted, 0u);
+  EXPECT_EQ(filtered.report.normals_blended, 0u);
+  EXPECT_EQ(fitted.report.normals_blended, 0u);
+  // A window closed to almost nothing keeps the filtered normals instead.
+  p.fit_normals = true;
+  p.output_normals.blend_low_deg = 0.0;
+  p.output_normals.blend_high_deg = 1e-3;
+  const RemoveTextureResult narrow = remove_texture(s.P, Normals(), p);
+  EXPECT_GT(narrow.report.normals_blended, narrow.positions.rows() / 2);
+  EXPECT_LT((narrow.normals - filtered.normals).cwiseAbs().maxCoeff(), 0.01);
   auto mean_error = [&](const RemoveTextureResult& r) {
     double sum = 0.0;
     for (int i = 0; i < r.positions.rows(); ++i)
@@ -155,6 +260,7 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
     return sum / r.positions.rows();
   };
   EXPECT_LT(mean_error(fitted), 0.8 * mean_error(filtered));
+  EXPECT_LT(mean_error(blended), 0.8 * mean_error(filtered));
 }
 
 }  // namespace

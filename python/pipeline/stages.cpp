@@ -222,7 +222,7 @@ void bind_stages(py::module_& m) {
       py::arg("is_texture") = py::none(), update_doc.c_str());
 
   static const std::string fit_doc = stage_doc<FitNormalsToPositionsParams>(
-      m, "fit_normals_to_positions", "points, normals, neighborhoods", "normals, kept",
+      m, "fit_normals_to_positions", "points, normals, neighborhoods", "normals, kept, blended",
       "FitNormalsToPositionsParams");
   m.def(
       "fit_normals_to_positions",
@@ -240,6 +240,7 @@ void bind_stages(py::module_& m) {
         py::dict d;
         d["normals"] = to_array(std::move(f.normals));
         d["kept"] = f.kept;
+        d["blended"] = f.blended;
         return d;
       },
       py::arg("points"), py::arg("normals"), py::arg("neighborhoods"), fit_doc.c_str());

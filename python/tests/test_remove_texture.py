@@ -85,19 +85,26 @@ def test_keywords_take_names_and_lengths(cube):
     assert a.report.rolling_iterations <= 2
 
 
-def test_fitted_output_normals_match_the_command_line(cube, work):
-    out = work / "fitted.ply"
-    run_cli(cube, "-o", out, "-r", "0.09", "--output-normals", "fitted", "--fit-sigma", "0.25r",
-            "-q", "--force")
+def test_output_normals_match_the_command_line(cube, work):
     cloud = detexture.read_point_cloud(cube)
     P = cloud.positions
-    r = detexture.remove_texture(cloud, radius=0.09, fit_normals=True, fit_sigma="0.25r")
-    plain = detexture.remove_texture(cloud, radius=0.09)
-    cli = detexture.read_point_cloud(out)
-    assert np.array_equal(cli.normals, r.normals)
-    assert np.array_equal(plain.positions, r.positions)
-    assert not np.array_equal(plain.normals, r.normals)
-    assert r.report.normals_not_fitted < len(P) // 100
+    assert detexture.default_parameters()["fit_normals"] is True
+    plain = detexture.remove_texture(cloud, radius=0.09, fit_normals=False)
+    runs = {"fitted": ({"output_normals_blend_high_deg": 0.0}, ["--output-normals", "fitted"]),
+            "blended": ({}, [])}
+    for name, (kwargs, args) in runs.items():
+        out = work / f"{name}.ply"
+        run_cli(cube, "-o", out, "-r", "0.09", "--fit-sigma", "0.25r", "-q", "--force", *args)
+        r = detexture.remove_texture(cloud, radius=0.09, fit_sigma="0.25r", **kwargs)
+        cli = detexture.read_point_cloud(out)
+        assert np.array_equal(cli.normals, r.normals), name
+        assert np.array_equal(plain.positions, r.positions), name
+        assert not np.array_equal(plain.normals, r.normals), name
+        assert r.report.normals_not_fitted < len(P) // 100
+    out = work / "filtered.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "-q", "--force", "--output-normals", "filtered")
+    assert np.array_equal(detexture.read_point_cloud(out).normals, plain.normals)
+    assert plain.report.normals_blended == 0
 
 
 def test_surface_split_matches_the_command_line(cube, work):

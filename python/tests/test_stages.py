@@ -95,10 +95,18 @@ def test_fit_normals_to_positions_reads_a_sphere():
     rot = np.array([[1, 0, 0], [0, np.cos(t), -np.sin(t)], [0, np.sin(t), np.cos(t)]])
     guide = P @ rot.T
     R = detexture.radius_neighborhoods(P, 0.12)
-    f = detexture.fit_normals_to_positions(P, guide, R, sigma=0.05, radius=0.1)
-    assert f["kept"] == 0
+    f = detexture.fit_normals_to_positions(P, guide, R, sigma=0.05, radius=0.1, blend_high_deg=0)
+    assert f["kept"] == 0 and f["blended"] == 0
     assert np.degrees(np.arccos(np.clip((f["normals"] * P).sum(1), -1, 1))).max() < 0.5
-    flipped = detexture.fit_normals_to_positions(P, -guide, R, sigma=0.05, radius=0.1)
+    flipped = detexture.fit_normals_to_positions(P, -guide, R, sigma=0.05, radius=0.1,
+                                                 blend_high_deg=0)
     assert np.allclose(flipped["normals"], -f["normals"])
+    # The default blend: where the fit turns 10° from the guide (away from
+    # the x axis, about which the guide was turned) it is past
+    # blend_high_deg (2°), and the guide is kept.
+    b = detexture.fit_normals_to_positions(P, guide, R, sigma=0.05, radius=0.1)
+    far = np.abs(P[:, 0]) < 0.5
+    assert b["blended"] >= far.sum()
+    assert np.allclose(b["normals"][far], guide[far])
     with pytest.raises(ValueError, match="spatial scale"):
         detexture.fit_normals_to_positions(P, guide, R, sigma=0.0, radius=0.1)

@@ -1,6 +1,7 @@
 #include "detexture/pipeline/fit_normals_to_positions.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,48 @@
 #include "detexture/geometry/estimate_normals.h"
 
 namespace detexture {
+namespace {
+
+// The blend (header): ā_i is the mean angle between fit and n over p_i's
+// neighbors within ρ, p_i included; the output is the fit and n mixed by
+// w_i = clamp((high - ā_i) / (high - low), 0, 1), then normalized.
+void blend_with_filtered(const Positions& P, const Normals& normals, const Neighborhoods& R,
+                         const FitNormalsToPositionsParams& params,
+                         FitNormalsToPositionsResult& out) {
+  const std::size_t n = R.size();
+  std::vector<float> turn(n, 0.0f);  // degrees between the fit and n at each point
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double c = out.normals.row(i).dot(normals.row(i));
+    if (normals.row(i).squaredNorm() > 0.0)
+      turn[i] = static_cast<float>(std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
+  }
+  const double radius_sq = params.radius * params.radius;
+  const double low = params.blend_low_deg, span = params.blend_high_deg - params.blend_low_deg;
+  std::size_t count = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (normals.row(i).squaredNorm() == 0.0) continue;
+    double sum = turn[i];
+    int members = 1;
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+      const std::uint32_t j = *nb;
+      if (j == i || (P.row(j) - P.row(i)).squaredNorm() > radius_sq) continue;
+      sum += turn[j];
+      ++members;
+    }
+    const double w = std::clamp(1.0 - (sum / members - low) / span, 0.0, 1.0);
+    if (w == 1.0) continue;
+    ++count;
+    // Only row i changes, and ā reads the turns computed above.
+    const Eigen::RowVector3d mixed = w * out.normals.row(i) + (1.0 - w) * normals.row(i);
+    const double norm = mixed.norm();
+    out.normals.row(i) = norm > 0.0 ? Eigen::RowVector3d(mixed / norm) : normals.row(i);
+  }
+  out.blended = count;
+}
+
+}  // namespace
 
 void validate(const FitNormalsToPositionsParams& p) {
   if (!(p.sigma > 0.0) || !std::isfinite(p.sigma))
@@ -23,6 +66,13 @@ void validate(const FitNormalsToPositionsParams& p) {
   if (!(p.max_turn_deg > 0.0 && p.max_turn_deg <= 180.0))
     throw std::invalid_argument("the normal fit's largest turn must be in (0, 180] degrees, got " +
                                 number_text(p.max_turn_deg));
+  if (!(p.blend_high_deg >= 0.0 && p.blend_high_deg <= 180.0))
+    throw std::invalid_argument(
+        "the normal fit's blend end must be in [0, 180] degrees (0: no blend), got " +
+        number_text(p.blend_high_deg));
+  if (p.blend_high_deg > 0.0 && !(p.blend_low_deg >= 0.0 && p.blend_low_deg < p.blend_high_deg))
+    throw std::invalid_argument("the normal fit's blend start must be in [0, blend end), got " +
+                                number_text(p.blend_low_deg));
 }
 
 FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
@@ -100,6 +150,7 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
     }
   }
   out.kept = kept;
+  if (params.blend_high_deg > 0.0) blend_with_filtered(P, normals, R, params, out);
   return out;
 }
 

@@ -443,6 +443,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     fp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
     FitNormalsToPositionsResult fit = fit_normals_to_positions(result.positions, filtered, R, fp);
     rep.normals_not_fitted = fit.kept;
+    rep.normals_blended = fit.blended;
     filtered = std::move(fit.normals);
   }
   result.normals = std::move(filtered);

@@ -53,6 +53,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.max_move = std::max(r.max_move, t.max_move);
   r.moves_limited += t.moves_limited;
   r.normals_not_fitted += t.normals_not_fitted;
+  r.normals_blended += t.normals_blended;
   r.duplicates_merged += t.duplicates_merged;
   r.estimated_bytes = std::max(r.estimated_bytes, t.estimated_bytes);
   for (const StageTiming& s : t.timings) {

@@ -18,19 +18,28 @@
 // whose filtered normal turns away by more than about 45° weigh little. The
 // mesh mode does the same with the output's faces (face_normals.h).
 //
-// Off by default in remove_texture (RemoveTextureParams::fit_normals;
-// --output-normals fitted turns it on), because it helps
-// only where the output positions are better than n: measured on both
-// quality suites (bench/quality_real_notes.md), the mean normal error drops
-// by 8-40% on smooth and faceted shapes with sparse features (the person
-// 6.09° → 5.30°, the duck 3.29° → 2.55°, the blob 1.70° → 1.06°, the sphere
-// 1.06° → 0.65°), but where dense waves or grooves stay partly in the
-// positions the fit follows them (the torus with waves 3.89° → 8.50°, the
-// noisy U grooves 3.64° → 6.19°, the knot 3.60° → 4.95°). Gating the fit by
-// the points' texture labels and heights, or by its own roughness, kept part
-// of both; no gate separated the two kinds of case. It costs about 6% of a
-// run (a 150k-point sphere with bumps, 795 neighbors: 0.28 s of 4.89 s on 2
-// threads, medians of 5).
+// The fit alone helps only where the output positions are better than n:
+// measured on both quality suites (bench/quality_real_notes.md), the mean
+// normal error drops by 8-40% on smooth and faceted shapes with sparse
+// features (the person 6.09° → 5.30°, the duck 3.29° → 2.55°, the blob
+// 1.70° → 1.06°, the sphere 1.06° → 0.65°), but where dense waves or grooves
+// stay partly in the positions the fit follows them (the torus with waves
+// 3.89° → 8.50°, the noisy U grooves 3.64° → 6.19°, the knot 3.60° → 4.95°).
+// Gates on a point's own texture label, height or fit roughness kept part of
+// both. What does separate them is the disagreement around the point: where
+// waves or noise stay in the positions, the fit swings about n from point to
+// point, by 3-5° on average over a neighborhood; where the positions are
+// clean it differs from n by under 1° (a smoothed curve, a facet). So the
+// output is blended (blend_low_deg, blend_high_deg; the default): with ā_i
+// the mean angle between the fit and n over p_i and its neighbors within ρ,
+//
+//   w_i = clamp((high - ā_i) / (high - low), 0, 1),   n'_i ∝ w_i fit_i + (1 - w_i) n_i.
+//
+// The window 1-2° was measured against 1-3° and 0.5-2.5° (bench/RESULTS.md):
+// wider windows won more on the real shapes and lost up to 3.5% on the noisy
+// U grooves. It costs about 6% of a run (a 150k-point sphere with bumps,
+// 795 neighbors: 0.28 s of 4.89 s on 2 threads, medians of 5, before the
+// blend).
 //
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
@@ -58,11 +67,21 @@ struct FitNormalsToPositionsParams {
   /// A fit that turns farther than this from the filtered normal is not
   /// taken, degrees in (0, 180].
   double max_turn_deg = 45.0;
+  /// Blend (see above): where the fit and n disagree by a mean angle ā_i
+  /// over p_i and its neighbors within ρ of at most this, the fit is taken;
+  /// degrees in [0, blend_high_deg).
+  double blend_low_deg = 1.0;
+  /// Blend: from this mean angle on, n_i is kept; linearly between the two.
+  /// Degrees in [0, 180]; 0 takes every fit (no blend).
+  double blend_high_deg = 2.0;
 };
 
 struct FitNormalsToPositionsResult {
   Normals normals;       ///< #P by 3 unit normals
   std::size_t kept = 0;  ///< points that kept the filtered normal (see above)
+  /// Points whose output is the filtered normal, or partly, because the fit
+  /// disagrees with it around them (the blend; 0 without it).
+  std::size_t blended = 0;
 };
 
 void validate(const FitNormalsToPositionsParams& params);

@@ -145,10 +145,11 @@ struct RemoveTextureParams {
   FilterNormalsGaussianParams gaussian;  ///< sub-neighborhood switch (σs from above)
   FilterNormalsRollingParams rolling;    ///< σr, iterations, guidance (σs from above)
   UpdatePositionsParams update;  ///< mode, isotropy angle, anchors (σp, solve radius from above)
-  /// Output normals fitted to the updated positions (fit_normals_to_positions.h);
-  /// false (the default) outputs the filtered normals, as the paper does.
+  /// Output normals fitted to the updated positions and blended with the
+  /// filtered ones where the two disagree (fit_normals_to_positions.h; the
+  /// default); false outputs the filtered normals, as the paper does.
   /// Clouds only: meshes take theirs from the output's faces.
-  bool fit_normals = false;
+  bool fit_normals = true;
   /// The fit's range scale and largest turn; its σ is fit_sigma and its
   /// radius the solve radius.
   FitNormalsToPositionsParams output_normals;
@@ -235,6 +236,10 @@ struct RemoveTextureReport {
   /// Output normals not fitted to the positions (fit_normals_to_positions.h):
   /// these keep the filtered normal.
   std::size_t normals_not_fitted = 0;
+  /// Output normals mixed with the filtered normal, or replaced by it, where
+  /// the fit disagrees with it around the point (the blend of
+  /// fit_normals_to_positions.h: waves or noise left in the positions).
+  std::size_t normals_blended = 0;
   /// Points at exactly the position of an earlier point: the method ran on
   /// the distinct positions and each copy got the result of the first.
   std::size_t duplicates_merged = 0;
