@@ -405,7 +405,8 @@ int run_detexture(int argc, char** argv) {
              "have; more tightly curved relief is texture");
   app.add_option("--sigma-r", params.rolling.sigma_r_deg,
                  "σr: range scale of the rolling filter (Eq. 3), degrees. Larger gives smoother "
-                 "results; creases sharper than about 2σr survive")
+                 "results; at 30 the filter alone brings back creases of 90° and more, at 45 "
+                 "it leaves them to the surface split (--surface-split-angle)")
       ->capture_default_str();
   app.add_option("--iterations", params.rolling.iterations,
                  "Rolling iterations k (Eq. 3); more recovers larger structures")
@@ -500,7 +501,7 @@ int run_detexture(int argc, char** argv) {
                  "the filtered normals around the point and the filtered normals where waves, "
                  "grooves or noise left in the positions make them disagree), fitted (the fit "
                  "everywhere) or filtered (the paper: the filtered normals, smoothed at σs). "
-                 "Meshes take theirs from the output's faces")
+                 "Meshes with --mesh faces take theirs from the output's faces")
       ->transform(CLI::CheckedTransformer(output_normal_modes, CLI::ignore_case).description(""))
       ->type_name("MODE")
       ->default_str(name_of(output_normal_modes, output_normals));
@@ -521,7 +522,7 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--blend-high", params.output_normals.blend_high_deg,
                  "Blended output normals: from this mean angle on (degrees), the filtered "
-                 "normal; linearly between the two")
+                 "normal; linearly between the two. 0 turns the blend off (= fitted)")
       ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
@@ -591,6 +592,11 @@ int run_detexture(int argc, char** argv) {
   tiling.memory_limit_given = app.count("--memory-limit") > 0;
   ProgressPrinter printer(quiet);
   try {
+    if (output_normals != OutputNormals::Blended &&
+        (app.count("--blend-low") > 0 || app.count("--blend-high") > 0))
+      throw std::invalid_argument(
+          "--blend-low and --blend-high apply to --output-normals blended only, not to " +
+          name_of(output_normal_modes, output_normals));
     params.fit_normals = output_normals != OutputNormals::Filtered;
     if (output_normals == OutputNormals::Fitted) params.output_normals.blend_high_deg = 0.0;
     params.gaussian.use_subneighborhood = !no_subneighborhood;

@@ -251,8 +251,11 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   p.output_normals.blend_low_deg = 0.0;
   p.output_normals.blend_high_deg = 1e-3;
   const RemoveTextureResult narrow = remove_texture(s.P, Normals(), p);
+  p.threads = 1;
+  const RemoveTextureResult narrow1 = remove_texture(s.P, Normals(), p);
   EXPECT_GT(narrow.report.normals_blended, narrow.positions.rows() / 2);
   EXPECT_LT((narrow.normals - filtered.normals).cwiseAbs().maxCoeff(), 0.01);
+  EXPECT_TRUE(narrow.normals == narrow1.normals) << "the mixing, on 2 threads and on 1";
   auto mean_error = [&](const RemoveTextureResult& r) {
     double sum = 0.0;
     for (int i = 0; i < r.positions.rows(); ++i)

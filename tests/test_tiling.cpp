@@ -124,6 +124,7 @@ TEST(RemoveTextureTiled, OneTileIsThePlainRunBitForBit) {
   const auto s = test::bumpy_plane(61, 0.03, 0.015);
   RemoveTextureParams p = plane_params();
   p.lambda = {0.05, Length::Unit::Radius};  // resolved once for the tiles, the same way
+  p.fit_normals = false;                    // the filtered normals first, then the default
   const RemoveTextureResult whole = remove_texture(s.P, s.N, p);
   TilingParams t;
   t.tile_size = {2.0, Length::Unit::Absolute};
@@ -136,13 +137,16 @@ TEST(RemoveTextureTiled, OneTileIsThePlainRunBitForBit) {
   EXPECT_TRUE(tiled.input_positions == s.P);
   p.fit_normals = true;
   p.fit_sigma = {0.01, Length::Unit::Diagonal};
+  p.output_normals.blend_low_deg = 0.0;  // a narrow window, so the blend mixes somewhere
+  p.output_normals.blend_high_deg = 0.05;
   const RemoveTextureResult whole_fit = remove_texture(s.P, s.N, p);
+  EXPECT_GT(whole_fit.report.normals_blended, 0u);
   const RemoveTextureResult tiled_fit = remove_texture_tiled(s.P, s.N, p, t, {}, &report);
   EXPECT_TRUE(tiled_fit.normals == whole_fit.normals);
   EXPECT_FALSE(tiled_fit.normals == tiled.normals);
 }
 
-// Two bumpy patches 3 apart (far beyond the exact reach 34r + r = 2.1 of the
+// Two bumpy patches 3 apart (far beyond the exact reach 36r + r = 2.22 of the
 // local update): with one patch per tile, each tile is exactly that patch run
 // alone, whatever the halo.
 TEST(RemoveTextureTiled, SeparatePatchesAreTheirOwnRunsBitForBit) {
@@ -157,7 +161,10 @@ TEST(RemoveTextureTiled, SeparatePatchesAreTheirOwnRunsBitForBit) {
   N.bottomRows(n) = s.N;
   RemoveTextureParams p = plane_params();
   p.update.mode = UpdateMode::Isotropic;
-  EXPECT_NEAR(exact_tile_reach(p), 35 * 0.06, 1e-12);
+  EXPECT_NEAR(exact_tile_reach(p), 37 * 0.06, 1e-12);  // blended output normals: + 2r
+  RemoveTextureParams filtered = p;
+  filtered.fit_normals = false;
+  EXPECT_NEAR(exact_tile_reach(filtered), 35 * 0.06, 1e-12);
   p.update.mode = UpdateMode::Global;
   EXPECT_TRUE(std::isinf(exact_tile_reach(p)));
   TilingParams t;

@@ -1,7 +1,7 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), fit_normals_to_positions (optional output
+// update_positions (Eqs. 9-10), fit_normals_to_positions (output
 // normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.

@@ -12,38 +12,39 @@
 namespace detexture {
 namespace {
 
-// The blend (header): ā_i is the mean angle between fit and n over p_i's
-// neighbors within ρ, p_i included; the output is the fit and n mixed by
-// w_i = clamp((high - ā_i) / (high - low), 0, 1), then normalized.
+// What the main loop leaves in turn[i], besides the angle in degrees
+// between a taken fit and n_i.
+constexpr float kNotFitted = -1.0f;  // zero or non-finite n_i, or no usable fit: n_i kept
+constexpr float kRefused = 180.0f;   // the fit turned past max_turn_deg: n_i kept
+
+// The blend (header): ā_i is the mean of turn[j] over p_i and its neighbors
+// within ρ that were fitted (a refused fit counts as 180°: it marks the fit
+// as untrustworthy there); the output is the fit and n mixed by
+// w_i = clamp((high - ā_i) / (high - low), 0, 1), then normalized. Points
+// whose own fit was not taken keep n_i and are not counted.
 void blend_with_filtered(const Positions& P, const Normals& normals, const Neighborhoods& R,
-                         const FitNormalsToPositionsParams& params,
+                         const FitNormalsToPositionsParams& params, const std::vector<float>& turn,
                          FitNormalsToPositionsResult& out) {
   const std::size_t n = R.size();
-  std::vector<float> turn(n, 0.0f);  // degrees between the fit and n at each point
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    const double c = out.normals.row(i).dot(normals.row(i));
-    if (normals.row(i).squaredNorm() > 0.0)
-      turn[i] = static_cast<float>(std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
-  }
   const double radius_sq = params.radius * params.radius;
   const double low = params.blend_low_deg, span = params.blend_high_deg - params.blend_low_deg;
   std::size_t count = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
   for (std::size_t i = 0; i < n; ++i) {
-    if (normals.row(i).squaredNorm() == 0.0) continue;
+    if (turn[i] == kNotFitted || turn[i] == kRefused) continue;
     double sum = turn[i];
     int members = 1;
     for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
       const std::uint32_t j = *nb;
-      if (j == i || (P.row(j) - P.row(i)).squaredNorm() > radius_sq) continue;
+      if (j == i || turn[j] == kNotFitted || (P.row(j) - P.row(i)).squaredNorm() > radius_sq)
+        continue;
       sum += turn[j];
       ++members;
     }
     const double w = std::clamp(1.0 - (sum / members - low) / span, 0.0, 1.0);
     if (w == 1.0) continue;
     ++count;
-    // Only row i changes, and ā reads the turns computed above.
+    // Only row i changes, and ā reads the turns of the main loop.
     const Eigen::RowVector3d mixed = w * out.normals.row(i) + (1.0 - w) * normals.row(i);
     const double norm = mixed.norm();
     out.normals.row(i) = norm > 0.0 ? Eigen::RowVector3d(mixed / norm) : normals.row(i);
@@ -68,11 +69,18 @@ void validate(const FitNormalsToPositionsParams& p) {
                                 number_text(p.max_turn_deg));
   if (!(p.blend_high_deg >= 0.0 && p.blend_high_deg <= 180.0))
     throw std::invalid_argument(
-        "the normal fit's blend end must be in [0, 180] degrees (0: no blend), got " +
+        "the blend's upper angle (blend_high_deg, --blend-high) must be in [0, 180] degrees, 0 "
+        "for no blend, got " +
         number_text(p.blend_high_deg));
-  if (p.blend_high_deg > 0.0 && !(p.blend_low_deg >= 0.0 && p.blend_low_deg < p.blend_high_deg))
-    throw std::invalid_argument("the normal fit's blend start must be in [0, blend end), got " +
-                                number_text(p.blend_low_deg));
+  if (!(p.blend_low_deg >= 0.0 && p.blend_low_deg <= 180.0))
+    throw std::invalid_argument(
+        "the blend's lower angle (blend_low_deg, --blend-low) must be in [0, 180] degrees, got " +
+        number_text(p.blend_low_deg));
+  if (p.blend_high_deg > 0.0 && !(p.blend_low_deg < p.blend_high_deg))
+    throw std::invalid_argument("the blend's lower angle (blend_low_deg, --blend-low, " +
+                                number_text(p.blend_low_deg) +
+                                ") must be below its upper angle (blend_high_deg, --blend-high, " +
+                                number_text(p.blend_high_deg) + ")");
 }
 
 FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
@@ -91,6 +99,8 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
   FitNormalsToPositionsResult out;
   out.normals = normals;
   std::size_t kept = 0;
+  const bool blend = params.blend_high_deg > 0.0;
+  std::vector<float> turn(blend ? n : 0, kNotFitted);  // see kNotFitted
 
 #pragma omp parallel reduction(+ : kept)
   {
@@ -99,7 +109,7 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::RowVector3d pi = P.row(i);
       const Eigen::RowVector3d ni = normals.row(i);
-      if (ni.squaredNorm() == 0.0) continue;
+      if (ni.squaredNorm() == 0.0 || !ni.allFinite()) continue;
       // Two passes around the weighted mean, in coordinates relative to p'_i
       // (exact for far-from-origin clouds, as in estimate_normals).
       weights.assign(R.count(i), 0.0);
@@ -144,13 +154,15 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
       }
       if (c < min_cos) {
         ++kept;
+        if (blend) turn[i] = kRefused;
         continue;
       }
       out.normals.row(i) = m;
+      if (blend) turn[i] = static_cast<float>(std::acos(std::min(c, 1.0)) * 180.0 / M_PI);
     }
   }
   out.kept = kept;
-  if (params.blend_high_deg > 0.0) blend_with_filtered(P, normals, R, params, out);
+  if (blend) blend_with_filtered(P, normals, R, params, turn, out);
   return out;
 }
 

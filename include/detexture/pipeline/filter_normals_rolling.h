@@ -32,12 +32,15 @@ namespace detexture {
 struct FilterNormalsRollingParams {
   /// σs: spatial scale, in the cloud's units; > 0 (the same σs as Eq. 1).
   double sigma_s = 0.0;
-  /// σr: range scale, in degrees, in (0, 180]. Larger gives smoother results;
-  /// creases sharper than about 2σr are kept. The paper's Table 2 uses 30-45°;
-  /// 45° was measured on both quality suites against 30° (bench/RESULTS.md):
-  /// normal error −2 to −7% on the curved and thin real shapes (the limbs'
-  /// rounded parts are smoothed, not split into facets), the cubes' and
-  /// the pyramid's edges within 0.5%.
+  /// σr: range scale, in degrees, in (0, 180]. Larger gives smoother results.
+  /// At 30° this filter alone brings back creases of 90° and more (75°
+  /// partly); at 45° it leaves creases of 75-105° blurred, and remove_texture
+  /// keeps them by the surface split (drop_neighbors_across_surfaces.h). The
+  /// paper's Table 2 uses 30-45°; 45° was measured on both quality suites
+  /// against 30° (bench/RESULTS.md, row sigma-r-30): normal error −2 to −6%
+  /// on the curved and thin real shapes (the limbs' rounded parts are
+  /// smoothed, not split into facets), the cubes' and the pyramid's edges
+  /// within 0.5%.
   double sigma_r_deg = 45.0;
   /// Rolling iterations k (after the Gaussian step), ≥ 0.
   int iterations = 10;

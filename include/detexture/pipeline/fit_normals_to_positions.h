@@ -31,15 +31,16 @@
 // point, by 3-5° on average over a neighborhood; where the positions are
 // clean it differs from n by under 1° (a smoothed curve, a facet). So the
 // output is blended (blend_low_deg, blend_high_deg; the default): with ā_i
-// the mean angle between the fit and n over p_i and its neighbors within ρ,
+// the mean angle between the fit and n over p_i and its neighbors within ρ
+// whose fit was computed (a fit refused for turning past max_turn_deg counts
+// as 180°),
 //
 //   w_i = clamp((high - ā_i) / (high - low), 0, 1),   n'_i ∝ w_i fit_i + (1 - w_i) n_i.
 //
 // The window 1-2° was measured against 1-3° and 0.5-2.5° (bench/RESULTS.md):
 // wider windows won more on the real shapes and lost up to 3.5% on the noisy
-// U grooves. It costs about 6% of a run (a 150k-point sphere with bumps,
-// 795 neighbors: 0.28 s of 4.89 s on 2 threads, medians of 5, before the
-// blend).
+// U grooves. Fit and blend take about 5% of a run (bench/speed's 150k
+// sphere: 0.06 s of 1.29 s).
 //
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
@@ -67,12 +68,12 @@ struct FitNormalsToPositionsParams {
   /// A fit that turns farther than this from the filtered normal is not
   /// taken, degrees in (0, 180].
   double max_turn_deg = 45.0;
-  /// Blend (see above): where the fit and n disagree by a mean angle ā_i
-  /// over p_i and its neighbors within ρ of at most this, the fit is taken;
-  /// degrees in [0, blend_high_deg).
+  /// Blend: where the fitted normals differ from the filtered ones by a mean
+  /// angle of at most this over a point and its neighbors (within the
+  /// fit's radius), the fit is taken; degrees in [0, blend_high_deg).
   double blend_low_deg = 1.0;
-  /// Blend: from this mean angle on, n_i is kept; linearly between the two.
-  /// Degrees in [0, 180]; 0 takes every fit (no blend).
+  /// Blend: from this mean angle on, the filtered normal is kept; linearly
+  /// between the two. Degrees in [0, 180]; 0 takes every fit (no blend).
   double blend_high_deg = 2.0;
 };
 

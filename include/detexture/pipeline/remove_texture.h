@@ -100,10 +100,11 @@ struct RemoveTextureParams {
   /// fitted to their own neighborhood, Eq. 2's models), plus λ; 0 = no limit (the
   /// paper). Without it, weakly anchored texture on tightly curved parts
   /// (limb tips) could be carried 3-4 times the texture's height off the
-  /// surface by the global update. 1.25 was measured against 1.5 (bench/
-  /// RESULTS.md): the person's Dmax 1.42 → 1.22 × the input's, the spider's
-  /// 1.70 → 1.55, nothing else changed; 1 leaves part of a lone bump taller
-  /// than the 99th percentile (tests/test_remove_texture.cpp).
+  /// surface by the global update. 1.25 was measured against 1.5, both at
+  /// σr 45° (quick runs of both suites' cases, bench/quality_real_notes.md):
+  /// the person's Dmax 1.42 → 1.22 × the input's, the spider's 1.70 → 1.55,
+  /// nothing else changed; at 1 a lone bump taller than the 99th percentile
+  /// keeps part of its height (0.0045 of a bump 0.03 high, against 0.0013).
   double move_limit = 1.25;
   /// Global update: surface points are anchored at their input positions
   /// less the farther they sit from the surface fitted to their own
@@ -148,7 +149,8 @@ struct RemoveTextureParams {
   /// Output normals fitted to the updated positions and blended with the
   /// filtered ones where the two disagree (fit_normals_to_positions.h; the
   /// default); false outputs the filtered normals, as the paper does.
-  /// Clouds only: meshes take theirs from the output's faces.
+  /// Clouds, and meshes with use_faces false; meshes with faces take theirs
+  /// from the output's faces.
   bool fit_normals = true;
   /// The fit's range scale and largest turn; its σ is fit_sigma and its
   /// radius the solve radius.
@@ -239,6 +241,8 @@ struct RemoveTextureReport {
   /// Output normals mixed with the filtered normal, or replaced by it, where
   /// the fit disagrees with it around the point (the blend of
   /// fit_normals_to_positions.h: waves or noise left in the positions).
+  /// Tiled runs sum this and normals_not_fitted over the tiles' runs, halo
+  /// points included.
   std::size_t normals_blended = 0;
   /// Points at exactly the position of an earlier point: the method ran on
   /// the distinct positions and each copy got the result of the first.

@@ -11,9 +11,12 @@
 //     most reliable neighbor of j by a curvature read over R_j's neighbors:
 //     + 3r per iteration (T iterations, 10 by default);
 //   position update: the local modes (isotropic, eq9) read input positions
-//     of R_i only: + r; the global solve couples all points (no finite reach).
-// The exact dependency cone is therefore ρ_k + (4 + 3T) r = 34r + ρ_k for
-// the local updates with defaults, and unbounded for the global solve. The
+//     of R_i only: + r; the global solve couples all points (no finite reach);
+//   output normals fitted to the output positions (the default): + r, and
+//     their blend, which averages the neighbors' fits: + r more.
+// The exact dependency cone is therefore ρ_k + (6 + 3T) r = 36r + ρ_k for
+// the local updates with defaults (34r + ρ_k with filtered output normals),
+// and unbounded for the global solve. The
 // weights decay as exp(-d²/2σs²) (σs = r), so the influence of a point 3r
 // away on a filtered normal is below exp(-4.5) ≈ 1% per step and compounds
 // down along the cone: the default halo is therefore a measured 4r, not the
