@@ -150,7 +150,8 @@ int print_scale_report(const std::string& input, FileFormat format,
   }
   RemoveTextureReport r;
   r.diagonal = bounding_box_diagonal(cloud.positions);
-  r.scale = estimate_texture_scale(cloud.positions, cloud.normals, params.scale);
+  r.scale = estimate_texture_scale(
+      cloud.positions, params.ignore_input_normals ? Normals() : cloud.normals, params.scale);
   r.scale_estimated = true;
   RemoveTextureParams auto_params = params;
   if (auto_params.radius.unit != Length::Unit::Texture)
@@ -197,6 +198,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
         json_text(r.scale.reason).c_str());
   add("  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
+  add("  \"normals_ignored\": %s,\n", r.normals_ignored ? "true" : "false");
   add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
   add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
   add("  \"surface_split_neighbors\": %zu,\n", r.surface_split_neighbors);
@@ -555,6 +557,9 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--reorient", params.reorient,
                "Re-orient the input normals consistently before filtering");
+  app.add_flag("--ignore-normals", params.ignore_input_normals,
+               "Estimate the normals from the positions (as for a cloud without normals) even "
+               "when the input has them: for scans whose normals are noisy or wrong in places");
   app.add_option("--ransac-confidence", params.texture.confidence,
                  "RANSAC stops once the best plane is found with this probability")
       ->capture_default_str();
@@ -704,7 +709,9 @@ int run_detexture(int argc, char** argv) {
                                     "' has no faces; write .ply, .xyz or .pcd for a point cloud");
     for (const auto& notice : read_report.notices) printer.note("detexture: note: " + notice);
     printer.note("read " + std::to_string(cloud.size()) + " points from " + input +
-                 (cloud.has_normals() ? " (with normals)" : " (no normals: estimating them)"));
+                 (!cloud.has_normals()          ? " (no normals: estimating them)"
+                  : params.ignore_input_normals ? " (with normals, ignored: estimating them)"
+                                                : " (with normals)"));
     if (read_report.zero_length_normals > 0)
       printer.note("detexture: note: " + std::to_string(read_report.zero_length_normals) +
                    " input normals have zero length; they are re-estimated");

@@ -260,6 +260,10 @@ DETEXTURE_VARIANTS = [
      "the filtered normals as output normals, as the paper (the default before session 9)"),
     ("sigma-r-30", ["--sigma-r", "30", "--move-limit", "1.5"],
      "σr 30° and the move limit at 1.5 × the texture height (the defaults before session 9)"),
+    ("estimated-normals", ["--ignore-normals"],
+     "the input's normals dropped and estimated from the positions (PCA, 16 neighbours), as "
+     "for a scan without normals or with unreliable ones; the input row's normals are exact, "
+     "noise-free even on the noisy cases"),
     ("auto", None, "the full method with no parameters at all: r from estimate_texture_scale (issue 10)"),
 ]
 
@@ -363,6 +367,7 @@ RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
+    "estimated-normals": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

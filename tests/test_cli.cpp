@@ -217,6 +217,32 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
 }
 
+TEST_F(Cli, IgnoreNormalsRunsAsOnTheSamePointsWithoutNormals) {
+  PointCloud c = bumpy(true);
+  for (Eigen::Index i = 0; i < c.normals.rows(); ++i)  // wrong, but oriented alike
+    c.normals.row(i) = Eigen::RowVector3d(std::sin(3.0 * i), std::cos(5.0 * i), 1.5).normalized();
+  write_point_cloud(path("in.ply"), c);
+  PointCloud bare = c;
+  bare.normals = Normals();
+  write_point_cloud(path("bare.ply"), bare);
+  ASSERT_EQ(run(path("bare.ply") + " -o " + path("bare_out.ply") + " -r 0.2"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("kept.ply") + " -r 0.2"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("ignored.ply") +
+                " -r 0.2 --ignore-normals --stats " + path("ignored.json")),
+            0)
+      << stderr_;
+  EXPECT_NE(stderr_.find("(with normals, ignored: estimating them)"), std::string::npos) << stderr_;
+  const PointCloud b = read_point_cloud(path("bare_out.ply")),
+                   k = read_point_cloud(path("kept.ply")),
+                   g = read_point_cloud(path("ignored.ply"));
+  EXPECT_EQ(g.positions, b.positions);
+  EXPECT_EQ(g.normals, b.normals);
+  EXPECT_NE(k.positions, b.positions) << "without the option the given normals are used";
+  std::ifstream stats(path("ignored.json"));
+  const std::string json((std::istreambuf_iterator<char>(stats)), {});
+  EXPECT_NE(json.find("\"normals_ignored\": true"), std::string::npos) << json;
+}
+
 TEST_F(Cli, BadParametersAreUsageErrors) {
   write_point_cloud(path("in.ply"), bumpy(true));
   for (const char* args :

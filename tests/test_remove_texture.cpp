@@ -26,6 +26,16 @@ Eigen::VectorXd height_above_base(const Positions& out, const SynthesizedShape& 
 
 double rms(const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / v.size()); }
 
+// A textured shape of `points` points with default texture (and a token
+// ground truth: these tests compare runs, not against the truth).
+SynthesizedShape small_shape(BaseShape shape, int points) {
+  SynthParams sp;
+  sp.shape = shape;
+  sp.points = points;
+  sp.ground_truth_points = 10;
+  return synthesize_shape(sp);
+}
+
 TEST(RemoveTexture, BumpOnPlaneGoesBackToThePlane) {
   const auto s = test::bumpy_plane(101, 0.03, 0.015);
   const RemoveTextureResult r = remove_texture(s.P, s.N, params_for(0.06, 0.002));
@@ -176,11 +186,7 @@ TEST(RemoveTexture, SphereKeepsItsRadius) {
 }
 
 TEST(RemoveTexture, IdenticalForAnyThreadCount) {
-  SynthParams sp;
-  sp.shape = BaseShape::Cube;
-  sp.points = 20000;
-  sp.ground_truth_points = 10;
-  const SynthesizedShape s = synthesize_shape(sp);
+  const SynthesizedShape s = small_shape(BaseShape::Cube, 20000);
   const RemoveTextureParams p = params_for(0.08, 0.004);
   omp_set_num_threads(1);
   const RemoveTextureResult a = remove_texture(s.positions, Normals(), p);
@@ -192,13 +198,32 @@ TEST(RemoveTexture, IdenticalForAnyThreadCount) {
   EXPECT_TRUE(a.report.normals_estimated);
 }
 
+// ignore_input_normals runs as if the cloud had none: normals turned at
+// random give the same result as no normals at all, and a different one
+// without the option.
+TEST(RemoveTexture, IgnoredInputNormalsAreEstimatedFromThePositions) {
+  const SynthesizedShape s = small_shape(BaseShape::Cube, 8000);
+  Normals scrambled = s.normals;
+  for (Eigen::Index i = 0; i < scrambled.rows(); ++i)
+    scrambled.row(i) = Eigen::RowVector3d(std::sin(3.0 * i), std::cos(5.0 * i), 0.5).normalized();
+  RemoveTextureParams p = params_for(0.08, 0.004);
+  const RemoveTextureResult none = remove_texture(s.positions, Normals(), p);
+  const RemoveTextureResult kept = remove_texture(s.positions, scrambled, p);
+  p.ignore_input_normals = true;
+  const RemoveTextureResult ignored = remove_texture(s.positions, scrambled, p);
+  EXPECT_TRUE(ignored.positions == none.positions);
+  EXPECT_TRUE(ignored.normals == none.normals);
+  EXPECT_TRUE(ignored.input_normals == none.input_normals);
+  EXPECT_FALSE(kept.positions == none.positions) << "the scrambled normals matter without it";
+  EXPECT_TRUE(ignored.report.normals_ignored);
+  EXPECT_TRUE(ignored.report.normals_estimated);
+  EXPECT_FALSE(kept.report.normals_ignored);
+  EXPECT_FALSE(none.report.normals_ignored) << "nothing to ignore";
+}
+
 // Positions and normals moved in come back unchanged, in the caller's order.
 TEST(RemoveTexture, HandsTheInputBack) {
-  SynthParams sp;
-  sp.shape = BaseShape::Sphere;
-  sp.points = 5000;
-  sp.ground_truth_points = 10;
-  const SynthesizedShape s = synthesize_shape(sp);
+  const SynthesizedShape s = small_shape(BaseShape::Sphere, 5000);
   Positions P = s.positions;
   Normals N = s.normals;
   const RemoveTextureResult r = remove_texture(std::move(P), std::move(N), params_for(0.15, 0.004));

@@ -253,6 +253,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(sigma_s);
   DETEXTURE_REPORT(sigma_p);
   DETEXTURE_REPORT(normals_estimated);
+  DETEXTURE_REPORT(normals_ignored);
   DETEXTURE_REPORT(normals_reestimated);
   DETEXTURE_REPORT(normals_degenerate);
   DETEXTURE_REPORT(normals_flipped);

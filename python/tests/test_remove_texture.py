@@ -34,6 +34,19 @@ def test_result_is_bitwise_the_command_lines(cube, work):
     assert np.array_equal(again.positions, r.positions)
 
 
+def test_ignore_input_normals_is_the_command_lines(cube, work):
+    out = work / "cli_ignored.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--ignore-normals", "-q", "--force")
+    cloud = detexture.read_point_cloud(cube)
+    r = detexture.remove_texture(cloud.positions, cloud.normals, radius=0.09,
+                                 ignore_input_normals=True)
+    bare = detexture.remove_texture(cloud.positions, radius=0.09)
+    assert r.report.normals_ignored and r.report.normals_estimated
+    assert not bare.report.normals_ignored
+    assert np.array_equal(r.positions, bare.positions)
+    assert np.array_equal(detexture.read_point_cloud(out).positions, r.positions)
+
+
 def test_float32_and_any_layout_are_accepted(cube):
     cloud = detexture.read_point_cloud(cube)
     P = cloud.positions.astype(np.float32)

@@ -528,8 +528,12 @@ RemoveTextureResult remove_texture_vertices(Positions P, Normals normals, Triang
 
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
-  return remove_texture_vertices(std::move(P), std::move(normals), TriangleIndices(), params,
-                                 observer);
+  const bool ignored = params.ignore_input_normals && normals.rows() != 0;
+  if (ignored) normals = Normals();
+  RemoveTextureResult result = remove_texture_vertices(std::move(P), std::move(normals),
+                                                       TriangleIndices(), params, observer);
+  result.report.normals_ignored = ignored;
+  return result;
 }
 
 namespace {
@@ -693,6 +697,8 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList&
     if (i >= static_cast<std::uint64_t>(P.rows()))
       throw std::invalid_argument("a face refers to vertex " + std::to_string(i) +
                                   ", but there are " + std::to_string(P.rows()));
+  const bool ignored = params.ignore_input_normals && normals.rows() != 0;
+  if (ignored) normals = Normals();
   RemoveTextureReport mesh_report;
   TriangleIndices T = triangulate_faces(faces);
   bool from_faces = false;
@@ -710,6 +716,7 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList&
       std::move(P), std::move(normals), params.use_faces ? T : TriangleIndices(), params, observer);
   RemoveTextureReport& rep = result.report;
   rep.mesh = true;
+  rep.normals_ignored = ignored;
   rep.normals_from_faces = from_faces;
   rep.triangles = static_cast<std::size_t>(T.rows());
   rep.triangles_reoriented = reoriented;

@@ -37,6 +37,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.neighbors.max = std::max(r.neighbors.max, t.neighbors.max);
   r.neighbors.sparse_points += t.neighbors.sparse_points;
   r.normals_estimated = r.normals_estimated || t.normals_estimated;
+  r.normals_ignored = r.normals_ignored || t.normals_ignored;
   r.normals_reestimated += t.normals_reestimated;
   r.normals_degenerate += t.normals_degenerate;
   r.normals_flipped += t.normals_flipped;

@@ -118,6 +118,11 @@ struct RemoveTextureParams {
   int normal_neighbors = 16;
   /// Re-orient the input normals consistently (Hoppe MST) before filtering.
   bool reorient = false;
+  /// Estimate the normals from the positions (as for a cloud without
+  /// normals) even when the input has them: for scans whose normals are
+  /// noisy, smoothed by the scanner or wrong in places. With faces and
+  /// use_faces, the faces give them. report.normals_ignored says it happened.
+  bool ignore_input_normals = false;
   /// Memory guard, bytes: before the neighborhoods are built their size is
   /// estimated from a sample (estimate_neighborhoods_memory.h), and a run
   /// that would need more is refused with a ResourceLimitError saying what
@@ -213,6 +218,7 @@ struct RemoveTextureReport {
   double radius = 0.0, lambda = 0.0, sigma_s = 0.0, sigma_p = 0.0;  ///< resolved lengths
   NeighborhoodStats neighbors;  ///< of R_i; sparse = fewer than 3 neighbors
   bool normals_estimated = false;
+  bool normals_ignored = false;  ///< the input had normals; ignore_input_normals dropped them
   std::size_t normals_reestimated = 0;      ///< zero-length input normals re-estimated
   std::size_t normals_degenerate = 0;       ///< normals that could not be estimated (left zero)
   std::size_t normals_flipped = 0;          ///< by orientation
