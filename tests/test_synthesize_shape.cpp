@@ -333,67 +333,75 @@ TEST(SynthesizeShape, BaseAndGroundTruthLieOnTheAnalyticShape) {
   }
 }
 
-TEST(SynthesizeShape, DisplacementIsHeightAlongBaseNormal) {
-  for (BaseShape shape : kShapes)
-    for (TextureKind texture : kTextures) {
-      const SynthesizedShape s =
-          synthesize_shape(params_for(shape, texture, TextureLayout::Sparse, 3000));
-      std::size_t textured = 0;
-      for (Eigen::Index i = 0; i < 3000; ++i) {
-        const double h = s.texture_heights[i];
-        const Vector3d p = s.positions.row(i), b = s.base_positions.row(i),
-                       n = s.base_normals.row(i);
-        ASSERT_LT((p - (b + h * n)).norm(), 1e-15);
-        ASSERT_EQ(s.is_texture[i], std::abs(h) > kTextureHeightEpsilon ? 1 : 0);
-        // Multi-scale heights add: A + A/3 at most.
-        const double peak = texture == TextureKind::MultiScale ? 0.02 * 4 / 3 : 0.02;
-        ASSERT_LE(std::abs(h), peak + 1e-15) << "|h| <= A " << base_shape_name(shape) << " "
-                                             << texture_kind_name(texture) << " " << b.transpose();
-        if (s.is_texture[i]) {
-          ++textured;
-        } else {
-          ASSERT_LT(distance_to_base(shape, p), 1e-12)
-              << base_shape_name(shape) << " " << texture_kind_name(texture) << " point " << i;
-        }
+// One test per base shape (these two), so that ctest runs the shapes side
+// by side: the sanitizer build spent 133 s and 40 s in them when each was one.
+class SynthesizeEachShape : public ::testing::TestWithParam<BaseShape> {};
+
+INSTANTIATE_TEST_SUITE_P(AllShapes, SynthesizeEachShape, ::testing::ValuesIn(kShapes),
+                         [](const ::testing::TestParamInfo<BaseShape>& info) {
+                           return std::string(base_shape_name(info.param));
+                         });
+
+TEST_P(SynthesizeEachShape, DisplacementIsHeightAlongBaseNormal) {
+  const BaseShape shape = GetParam();
+  for (TextureKind texture : kTextures) {
+    const SynthesizedShape s =
+        synthesize_shape(params_for(shape, texture, TextureLayout::Sparse, 3000));
+    std::size_t textured = 0;
+    for (Eigen::Index i = 0; i < 3000; ++i) {
+      const double h = s.texture_heights[i];
+      const Vector3d p = s.positions.row(i), b = s.base_positions.row(i), n = s.base_normals.row(i);
+      ASSERT_LT((p - (b + h * n)).norm(), 1e-15);
+      ASSERT_EQ(s.is_texture[i], std::abs(h) > kTextureHeightEpsilon ? 1 : 0);
+      // Multi-scale heights add: A + A/3 at most.
+      const double peak = texture == TextureKind::MultiScale ? 0.02 * 4 / 3 : 0.02;
+      ASSERT_LE(std::abs(h), peak + 1e-15) << "|h| <= A " << base_shape_name(shape) << " "
+                                           << texture_kind_name(texture) << " " << b.transpose();
+      if (s.is_texture[i]) {
+        ++textured;
+      } else {
+        ASSERT_LT(distance_to_base(shape, p), 1e-12)
+            << base_shape_name(shape) << " " << texture_kind_name(texture) << " point " << i;
       }
-      EXPECT_GT(textured, 100u) << base_shape_name(shape) << " " << texture_kind_name(texture);
     }
+    EXPECT_GT(textured, 100u) << base_shape_name(shape) << " " << texture_kind_name(texture);
+  }
 }
 
 // The exact normals against the normals of the surface b -> b + h(b) n(b)
 // obtained by central differences along two tangent directions.
-TEST(SynthesizeShape, NormalsMatchFiniteDifferences) {
+TEST_P(SynthesizeEachShape, NormalsMatchFiniteDifferences) {
   constexpr double step = 1e-7;
-  for (BaseShape shape : kShapes)
-    for (TextureKind texture : kTextures)
-      for (TextureLayout layout : {TextureLayout::Sparse, TextureLayout::Dense}) {
-        SynthParams p = params_for(shape, texture, layout, 300);
-        p.mixed_signs = layout == TextureLayout::Dense;
-        const SynthesizedShape s = synthesize_shape(p);
-        // Rows 5i: the sample itself; 5i+1 .. 5i+4: steps along +-u and +-v.
-        Positions Q(5 * s.base_positions.rows(), 3);
-        for (Eigen::Index i = 0; i < s.base_positions.rows(); ++i) {
-          const Vector3d b = s.base_positions.row(i), n = s.base_normals.row(i);
-          const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
-          Q.row(5 * i) = b;
-          Q.row(5 * i + 1) = project_like(shape, b, b + step * u);
-          Q.row(5 * i + 2) = project_like(shape, b, b - step * u);
-          Q.row(5 * i + 3) = project_like(shape, b, b + step * v);
-          Q.row(5 * i + 4) = project_like(shape, b, b - step * v);
-        }
-        const TexturedSamples t = evaluate_texture(p, Q);
-        const Positions& P = t.positions;
-        for (Eigen::Index i = 0; i < s.base_positions.rows(); ++i) {
-          ASSERT_EQ(P.row(5 * i), s.positions.row(i)) << "evaluate_texture reproduces samples";
-          ASSERT_EQ(t.normals.row(5 * i), s.normals.row(i));
-          const Vector3d du = P.row(5 * i + 1) - P.row(5 * i + 2);
-          const Vector3d dv = P.row(5 * i + 3) - P.row(5 * i + 4);
-          const Vector3d fd = du.cross(dv).normalized(), exact = s.normals.row(i);
-          EXPECT_LT(std::atan2(fd.cross(exact).norm(), fd.dot(exact)), 1e-5)
-              << base_shape_name(shape) << " " << texture_kind_name(texture) << " "
-              << texture_layout_name(layout) << " point " << i << " h " << s.texture_heights[i];
-        }
+  const BaseShape shape = GetParam();
+  for (TextureKind texture : kTextures)
+    for (TextureLayout layout : {TextureLayout::Sparse, TextureLayout::Dense}) {
+      SynthParams p = params_for(shape, texture, layout, 300);
+      p.mixed_signs = layout == TextureLayout::Dense;
+      const SynthesizedShape s = synthesize_shape(p);
+      // Rows 5i: the sample itself; 5i+1 .. 5i+4: steps along +-u and +-v.
+      Positions Q(5 * s.base_positions.rows(), 3);
+      for (Eigen::Index i = 0; i < s.base_positions.rows(); ++i) {
+        const Vector3d b = s.base_positions.row(i), n = s.base_normals.row(i);
+        const Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+        Q.row(5 * i) = b;
+        Q.row(5 * i + 1) = project_like(shape, b, b + step * u);
+        Q.row(5 * i + 2) = project_like(shape, b, b - step * u);
+        Q.row(5 * i + 3) = project_like(shape, b, b + step * v);
+        Q.row(5 * i + 4) = project_like(shape, b, b - step * v);
       }
+      const TexturedSamples t = evaluate_texture(p, Q);
+      const Positions& P = t.positions;
+      for (Eigen::Index i = 0; i < s.base_positions.rows(); ++i) {
+        ASSERT_EQ(P.row(5 * i), s.positions.row(i)) << "evaluate_texture reproduces samples";
+        ASSERT_EQ(t.normals.row(5 * i), s.normals.row(i));
+        const Vector3d du = P.row(5 * i + 1) - P.row(5 * i + 2);
+        const Vector3d dv = P.row(5 * i + 3) - P.row(5 * i + 4);
+        const Vector3d fd = du.cross(dv).normalized(), exact = s.normals.row(i);
+        EXPECT_LT(std::atan2(fd.cross(exact).norm(), fd.dot(exact)), 1e-5)
+            << base_shape_name(shape) << " " << texture_kind_name(texture) << " "
+            << texture_layout_name(layout) << " point " << i << " h " << s.texture_heights[i];
+      }
+    }
 }
 
 // Waves and grooves have closed forms in u = k.b, k = (1,2,3)/sqrt(14): on
