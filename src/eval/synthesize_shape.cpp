@@ -359,7 +359,38 @@ class BlobSurface : public SmoothSurface {
             {Vector3d(0.35, 0.7, -0.6).normalized(), 0.1, 0.08}};
   }
 
+  // The bounds, the area and the diagonal take a few sphere quadratures
+  // (0.4 s; the blob has no parameters), so they are computed once per
+  // process and shared by every BlobSurface.
   BlobSurface() : limbs_(limbs()) {
+    static const std::array<double, 3> shared = [this] {
+      measure();
+      return std::array<double, 3>{jacobian_bound_, area_, diagonal_};
+    }();
+    jacobian_bound_ = shared[0];
+    area_ = shared[1];
+    diagonal_ = shared[2];
+  }
+  double area() const override { return area_; }
+  double diagonal() const override { return diagonal_; }
+  Vector3d sample(Rng& rng, Frame& frame) const override {
+    Vector3d d;
+    do d = uniform_direction(rng);
+    while (rng.uniform() * jacobian_bound_ > jacobian(d));
+    const Vector3d b = radius(d) * d;
+    frame = this->frame(b);
+    return b;
+  }
+  Frame frame(const Vector3d& b) const override {
+    return implicit_frame(b, [&](const Vector3d& x) {
+      const double rho = x.norm();
+      const Vector3d d = x / rho;
+      return Vector3d(d - radius_gradient(d) / rho);
+    });
+  }
+
+ private:
+  void measure() {
     double radius_bound = kBody, slope_bound = 0.0;
     for (const Limb& l : limbs_) {
       radius_bound += l.length;
@@ -398,25 +429,6 @@ class BlobSurface : public SmoothSurface {
       }
     diagonal_ = (extent[0] + extent[1]).norm();
   }
-  double area() const override { return area_; }
-  double diagonal() const override { return diagonal_; }
-  Vector3d sample(Rng& rng, Frame& frame) const override {
-    Vector3d d;
-    do d = uniform_direction(rng);
-    while (rng.uniform() * jacobian_bound_ > jacobian(d));
-    const Vector3d b = radius(d) * d;
-    frame = this->frame(b);
-    return b;
-  }
-  Frame frame(const Vector3d& b) const override {
-    return implicit_frame(b, [&](const Vector3d& x) {
-      const double rho = x.norm();
-      const Vector3d d = x / rho;
-      return Vector3d(d - radius_gradient(d) / rho);
-    });
-  }
-
- private:
   double radius(const Vector3d& d) const {
     double r = kBody;
     for (const Limb& l : limbs_) r += l.length * std::exp((d.dot(l.axis) - 1.0) / l.width);
