@@ -182,6 +182,51 @@ TEST(OrientNormals, SeparateShapesAreSeparateComponents) {
   EXPECT_TRUE(r.normals == radial);
 }
 
+// A 41 x 41 grid of z = a (x² - y²) on [-1, 1]², with its exact normals
+// (-2 a x, 2 a y, 1) / |.|, as given by synth's saddle.
+std::pair<Positions, Normals> saddle(double a) {
+  const int m = 41;
+  Positions P(m * m, 3);
+  Normals up(m * m, 3);
+  for (int i = 0; i < m * m; ++i) {
+    const double x = -1.0 + 2.0 * (i % m) / (m - 1), y = -1.0 + 2.0 * (i / m) / (m - 1);
+    P.row(i) << x, y, a * (x * x - y * y);
+    up.row(i) = Eigen::RowVector3d(-2.0 * a * x, 2.0 * a * y, 1.0).normalized();
+  }
+  return {P, up};
+}
+
+// Open sheets without a convex side face up (rule 2 of orient_normals.h's
+// "Side"): the flux Σ n·(p - c) of a plane and of a symmetric saddle is 0.
+// Before, their farthest point (a corner, where n·(p - c) = 0) could not
+// tell, and they kept the sign of the input normal where the tree started.
+TEST(OrientNormals, FlatOpenSheetsFaceUp) {
+  for (const double a : {0.0, 0.3}) {
+    const auto [P, up] = saddle(a);
+    const OrientNormalsResult r = orient_normals(P, random_signs(up, 61), knn_neighborhoods(P, 10));
+    EXPECT_EQ(r.components, 1u);
+    EXPECT_TRUE(r.normals == up) << "a = " << a;
+    EXPECT_TRUE(orient_normals(P, -up, knn_neighborhoods(P, 10)).normals == up) << "a = " << a;
+  }
+}
+
+// A cap of the unit sphere facing down, as one tile of a closed scan: its
+// convex side is below it (rule 1), so it faces down and out, not up. Half-angle
+// 40 degrees: flux ratio about 0.5, far from the threshold 0.05.
+TEST(OrientNormals, CapFacesItsConvexSideBeforeUp) {
+  const Positions sphere = test::fibonacci_sphere(4000, 1.0).P;
+  std::vector<int> keep;
+  for (int i = 0; i < sphere.rows(); ++i)
+    if (sphere(i, 2) < -std::cos(40.0 * kPi / 180.0)) keep.push_back(i);
+  Positions P(keep.size(), 3);
+  for (std::size_t i = 0; i < keep.size(); ++i) P.row(i) = sphere.row(keep[i]);
+  const Normals outward = P;  // radial on the unit sphere
+  const OrientNormalsResult r =
+      orient_normals(P, random_signs(outward, 67), knn_neighborhoods(P, 10));
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(count_facing_inward(P, r.normals, {0, 0, 0}), 0u);
+}
+
 // Grid points' 5 nearest neighbors are themselves and their grid neighbors,
 // 1 away; a point 0.9 above a cell center (1.14 from its corners) is nobody's
 // neighbor but has neighbors. Treated as undirected, all is one component.

@@ -206,6 +206,41 @@ class EdgeMeasurer {
   double cos_excess_, sin_excess_;
 };
 
+// Whether a component whose relative signs are final must be turned over to
+// face the side the header's "Side" rules choose: outward by the flux
+// Σ n̂·(p - c) when it is clear, up for a flat open sheet, else outward at the
+// point farthest from the centroid c.
+bool flip_component(const std::vector<std::uint32_t>& members, const std::vector<Node>& node) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const std::uint32_t v : members) centroid += node[v].position;
+  centroid /= static_cast<double>(members.size());
+  double flux = 0.0, distances = 0.0;
+  Eigen::Vector3d resultant = Eigen::Vector3d::Zero();
+  for (const std::uint32_t v : members) {
+    const Eigen::Vector3d offset = node[v].position - centroid;
+    const Eigen::Vector3d oriented = node[v].sign * node[v].normal;
+    flux += oriented.dot(offset);
+    distances += offset.norm();
+    resultant += oriented;
+  }
+  if (std::abs(flux) >= kOutwardFluxRatio * distances) return flux < 0.0;
+  const double length = resultant.norm();
+  if (length >= kOpenSheetResultant * static_cast<double>(members.size()) &&
+      std::abs(resultant.z()) >= kUpwardCosine * length)
+    return resultant.z() < 0.0;
+  std::uint32_t farthest = members.front();
+  double farthest_sq = -1.0;
+  for (const std::uint32_t v : members) {
+    const double distance_sq = (node[v].position - centroid).squaredNorm();
+    if (distance_sq > farthest_sq || (distance_sq == farthest_sq && v < farthest)) {
+      farthest = v;
+      farthest_sq = distance_sq;
+    }
+  }
+  const Node& f = node[farthest];
+  return f.sign * f.normal.dot(f.position - centroid) < 0.0;
+}
+
 }  // namespace
 
 OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
@@ -280,23 +315,9 @@ OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
       relax(u, nu, reverse.begin(top), reverse.end(top));
     }
 
-    // Turn the component so that its point farthest from the centroid faces
-    // away from it. Propagated signs are relative, so this equals seeding there.
-    Eigen::RowVector3d centroid = Eigen::RowVector3d::Zero();
-    for (const std::uint32_t v : members) centroid += P.row(v);
-    centroid /= static_cast<double>(members.size());
-    std::uint32_t farthest = members.front();
-    double farthest_sq = -1.0;
-    for (const std::uint32_t v : members) {
-      const double distance_sq = (P.row(v) - centroid).squaredNorm();
-      if (distance_sq > farthest_sq || (distance_sq == farthest_sq && v < farthest)) {
-        farthest = v;
-        farthest_sq = distance_sq;
-      }
-    }
-    const Node& f = node[farthest];
-    if (f.sign * f.normal.dot((P.row(farthest) - centroid).transpose()) < 0.0)
+    if (flip_component(members, node)) {
       for (const std::uint32_t v : members) node[v].sign = -node[v].sign;
+    }
     ++result.components;
   }
 

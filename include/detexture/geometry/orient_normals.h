@@ -67,13 +67,27 @@ struct OrientNormalsResult {
 /// the surface. This needs a rim that the normals resolve; a sheet whose
 /// rim is thinner than the sampling is ambiguous to any local rule.
 ///
-/// Seed: the result is as if each connected component were seeded at its
-/// point farthest from the component's centroid (lowest index on ties), with
-/// that normal turned to point away from the centroid, so closed shapes face
-/// outward. If that normal is perpendicular to the direction from the
-/// centroid (e.g. a flat patch), the component keeps the input sign of the
-/// point where its tree starts.
-///
+/// Side: propagation fixes the signs within a connected component relative
+/// to each other; which way the whole component faces is chosen from its
+/// shape, with c its centroid, n̂ its oriented unit normals and m = Σ n̂:
+///  1. Outward, when the flux says so clearly: |Σ n̂·(p - c)| >=
+///     kOutwardFluxRatio Σ |p - c|, and the sign of the sum decides. On a
+///     closed surface the sum is 3 V (volume V, times the density), > 0 for
+///     outward normals, from any c (divergence theorem); over a cap or a
+///     bent sheet it is > 0 on the convex side. Unlike one point's normal it
+///     does not hang on a noisy tip or a rim.
+///  2. Up, for a flat-ish open sheet seen from one side (terrain, a relief, a
+///     plate scanned from above, a tile of such a scan): its normals agree,
+///     |m| >= kOpenSheetResultant × count (on a closed surface m ≈ 0), and m
+///     is within 60 degrees of the z axis, |m_z| >= kUpwardCosine |m|: the
+///     normals face +z, as PDAL's normal filter does by default (always_up).
+///     A saddle or a plane with bumps has no convex side for rule 1.
+///  3. Otherwise the component's point farthest from c (lowest index on
+///     ties) faces away from c (the rule alone before session 11).
+/// A sheet whose sides the shape cannot tell (a wall seen from one side, a
+/// bowl seen from inside) may face either way; so may parts that pierce
+/// each other, which one tree joins.
+
 /// Deterministic: the result does not depend on the number of threads.
 /// Time: Prim's loop is serial; it is bound by cache misses on neighbors, so
 /// clouds stored in spatial order (scans, or Morton-sorted) run several times
@@ -92,6 +106,19 @@ OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
 /// orient_normals with the default OrientNormalsParams.
 OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
                                    const Neighborhoods& N);
+
+/// Rule 1 of "Side" above: |Σ n̂·(p - c)| / Σ |p - c| is 1 on a sphere, 0.42
+/// on a torus of radii 1 and 0.3, about 0.75 α on a spherical cap of
+/// half-angle α (radians), 0 on a plane or a symmetric saddle. At 0.05,
+/// caps of more than about 4 degrees (a tile of a closed scan) are decided
+/// by their convex side, and flatter sheets by rule 2.
+constexpr double kOutwardFluxRatio = 0.05;
+/// Rule 2: |Σ n̂| / count of an open sheet. 1 on a plane, 0.5 on a
+/// hemisphere, 0 on a closed surface sampled evenly (0.33 if one half is
+/// sampled twice as densely as the other).
+constexpr double kOpenSheetResultant = 0.5;
+/// Rule 2: the sheet's mean normal is within 60 degrees of the z axis.
+constexpr double kUpwardCosine = 0.5;
 
 /// Neighbor pairs whose normals make less than 60 degrees when one of them is
 /// flipped, |n_i·n_j| >= 0.5, are "comparable"; pairs closer to perpendicular
