@@ -164,7 +164,7 @@ TEST(DropNeighborsAcrossSurfaces, SurfaceUnderAnOverhangIsSignedByTheFace) {
 // fitted to R_i leans towards the half's middle; the quadric's slope at
 // p_i (e, f) turns the surface normal back to the sphere's radial normal.
 TEST(DropNeighborsAcrossSurfaces, SurfaceNormalsFollowACurvedBaseSeenFromOneSide) {
-  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const auto s = test::fibonacci_sphere(8000, 1.0);
   Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
   keep_neighbors(R, [&](std::size_t i, std::uint32_t j) {
     const Eigen::RowVector3d side = Eigen::RowVector3d(0, 0, 1).cross(s.N.row(i));
@@ -180,7 +180,7 @@ TEST(DropNeighborsAcrossSurfaces, SurfaceNormalsFollowACurvedBaseSeenFromOneSide
   const TextureDetection quadric = detect_texture(s.P, s.N, R, params);
   params.surface = UnderlyingSurface::Plane;
   const TextureDetection plane = detect_texture(s.P, s.N, R, params);
-  for (Eigen::Index i = 0; i < s.P.rows(); i += 50) {
+  for (Eigen::Index i = 0; i < s.P.rows(); i += 20) {
     if (std::abs(s.N(i, 2)) > 0.8) continue;  // near the poles "side" degenerates
     quadric_worst =
         std::max(quadric_worst, test::angle_deg(quadric.surface_normal.row(i), s.N.row(i)));

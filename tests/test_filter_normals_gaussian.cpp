@@ -47,7 +47,7 @@ TEST(FilterNormalsGaussian, SoftSubNeighborhoodCopesWithDenseTexture) {
   sp.layout = TextureLayout::Dense;
   sp.size = 0.035;
   sp.amplitude = 0.01;
-  sp.points = 30000;
+  sp.points = 15000;
   sp.ground_truth_points = 1;
   const SynthesizedShape s = synthesize_shape(sp);
   const double r = 1.5 * sp.size;

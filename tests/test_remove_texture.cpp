@@ -174,7 +174,7 @@ TEST(RemoveTexture, SphereKeepsItsRadius) {
   sp.texture = TextureKind::Bumps;
   sp.size = 0.05;
   sp.amplitude = 0.02;
-  sp.points = 40000;
+  sp.points = 20000;
   sp.ground_truth_points = 10;
   const SynthesizedShape s = synthesize_shape(sp);
   const RemoveTextureResult r = remove_texture(s.positions, s.normals, params_for(0.08, 0.003));
