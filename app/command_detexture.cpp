@@ -708,9 +708,12 @@ int run_detexture(int argc, char** argv) {
         throw std::invalid_argument("'" + path + "': STL holds triangles, and '" + input +
                                     "' has no faces; write .ply, .xyz or .pcd for a point cloud");
     for (const auto& notice : read_report.notices) printer.note("detexture: note: " + notice);
+    params.use_faces = mesh_mode == "faces";
+    const std::string source =
+        has_faces(cloud) && params.use_faces ? "taking them from the faces" : "estimating them";
     printer.note("read " + std::to_string(cloud.size()) + " points from " + input +
-                 (!cloud.has_normals()          ? " (no normals: estimating them)"
-                  : params.ignore_input_normals ? " (with normals, ignored: estimating them)"
+                 (!cloud.has_normals()          ? " (no normals: " + source + ")"
+                  : params.ignore_input_normals ? " (with normals, ignored: " + source + ")"
                                                 : " (with normals)"));
     if (read_report.zero_length_normals > 0)
       printer.note("detexture: note: " + std::to_string(read_report.zero_length_normals) +
@@ -720,7 +723,6 @@ int run_detexture(int argc, char** argv) {
     // the pipeline can free them early: memory per point is a stated target.
     Normals normals = cloud.has_normals() ? std::move(cloud.normals) : Normals();
     cloud.normals = Normals();
-    params.use_faces = mesh_mode == "faces";
     FaceList faces;
     try {
       faces = face_list(cloud);

@@ -73,6 +73,8 @@ TEST_F(CliMesh, EveryMeshFormatComesOutTheSameWithTheBumpsLowered) {
         run(in + " -o " + out + " -r 0.06 --encoding ascii --stats " + path("s.json") + " -f"), 0)
         << ext << ": " << stderr_;
     EXPECT_NE(stderr_.find("normals from the faces"), std::string::npos) << ext << stderr_;
+    EXPECT_NE(stderr_.find("(no normals: taking them from the faces)"), std::string::npos)
+        << ext << stderr_;
     EXPECT_NE(stderr_.find("flipped triangles: 0 (0.00%)"), std::string::npos) << stderr_;
     const PointCloud result = read_point_cloud(out);
     ASSERT_EQ(result.size(), mesh.size()) << ext;
@@ -96,6 +98,7 @@ TEST_F(CliMesh, ThePaperModeTreatsTheVerticesAsACloudAndReportsItsFolds) {
   write_point_cloud(path("in.ply"), mesh);
   ASSERT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " -r 0.06 --mesh cloud"), 0) << stderr_;
   EXPECT_EQ(stderr_.find("normals from the faces"), std::string::npos) << stderr_;
+  EXPECT_NE(stderr_.find("(no normals: estimating them)"), std::string::npos) << stderr_;
   EXPECT_NE(stderr_.find("edges folded past 60°"), std::string::npos) << stderr_;
   EXPECT_EQ(run(path("in.ply") + " -o " + path("out2.ply") + " --mesh nonsense"), 2);
   // A path limit below r would cut even the nearest rim of every R_i.

@@ -524,12 +524,18 @@ RemoveTextureResult remove_texture_vertices(Positions P, Normals normals, Triang
                                             const RemoveTextureParams& params,
                                             const PipelineObserver& observer);
 
+// ignore_input_normals: drops the input's normals; true if there were any.
+bool drop_ignored_normals(Normals& normals, const RemoveTextureParams& params) {
+  if (!params.ignore_input_normals || normals.rows() == 0) return false;
+  normals = Normals();
+  return true;
+}
+
 }  // namespace
 
 RemoveTextureResult remove_texture(Positions P, Normals normals, const RemoveTextureParams& params,
                                    const PipelineObserver& observer) {
-  const bool ignored = params.ignore_input_normals && normals.rows() != 0;
-  if (ignored) normals = Normals();
+  const bool ignored = drop_ignored_normals(normals, params);
   RemoveTextureResult result = remove_texture_vertices(std::move(P), std::move(normals),
                                                        TriangleIndices(), params, observer);
   result.report.normals_ignored = ignored;
@@ -697,8 +703,7 @@ RemoveTextureResult remove_texture(Positions P, Normals normals, const FaceList&
     if (i >= static_cast<std::uint64_t>(P.rows()))
       throw std::invalid_argument("a face refers to vertex " + std::to_string(i) +
                                   ", but there are " + std::to_string(P.rows()));
-  const bool ignored = params.ignore_input_normals && normals.rows() != 0;
-  if (ignored) normals = Normals();
+  const bool ignored = drop_ignored_normals(normals, params);
   RemoveTextureReport mesh_report;
   TriangleIndices T = triangulate_faces(faces);
   bool from_faces = false;
