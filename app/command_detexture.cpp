@@ -557,6 +557,17 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--reorient", params.reorient,
                "Re-orient the input normals consistently before filtering");
+  std::map<std::string, NormalSide> sides{
+      {"auto", NormalSide::Auto}, {"outward", NormalSide::Outward}, {"inward", NormalSide::Inward},
+      {"+x", NormalSide::PlusX},  {"-x", NormalSide::MinusX},       {"+y", NormalSide::PlusY},
+      {"-y", NormalSide::MinusY}, {"+z", NormalSide::PlusZ},        {"-z", NormalSide::MinusZ}};
+  app.add_option("--orient", params.orient.side,
+                 "Side that estimated (and --reorient) normals face, for each connected part: "
+                 "auto (outward for closed parts and caps, up (+z) for flat open sheets), "
+                 "outward, inward, or +x, -x, +y, -y, +z, -z (a scan seen from that direction)")
+      ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case).description(""))
+      ->type_name("SIDE")
+      ->default_str(name_of(sides, params.orient.side));
   app.add_flag("--ignore-normals", params.ignore_input_normals,
                "Estimate the normals from the positions (as for a cloud without normals) even "
                "when the input has them: for scans whose normals are noisy or wrong in places");

@@ -217,6 +217,25 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
 }
 
+// A plane without normals: its estimated normals face up by default (a flat
+// open sheet), down with --orient=-z; an unknown side is a usage error.
+TEST_F(Cli, OrientChoosesTheSideOfEstimatedNormals) {
+  ASSERT_EQ(run("synth --shape plane --texture domes -n 5000 --no-normals "
+                "--ground-truth-points 10 -o " +
+                path("in.ply")),
+            0);
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("up.ply") + " -r 0.05"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("down.ply") + " -r 0.05 --orient=-z"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("down2.ply") + " -r 0.05 --orient -Z"), 0)
+      << stderr_;
+  const PointCloud up = read_point_cloud(path("up.ply")), down = read_point_cloud(path("down.ply"));
+  EXPECT_GT(up.normals.col(2).minCoeff(), 0.0);
+  EXPECT_LT(down.normals.col(2).maxCoeff(), 0.0);
+  EXPECT_EQ(read_point_cloud(path("down2.ply")).normals, down.normals);
+  EXPECT_EQ(run(path("in.ply") + " -o " + path("x.ply") + " -r 0.05 --orient sideways"), 2);
+  EXPECT_NE(stderr_.find("--orient"), std::string::npos) << stderr_;
+}
+
 TEST_F(Cli, IgnoreNormalsRunsAsOnTheSamePointsWithoutNormals) {
   PointCloud c = bumpy(true);
   for (Eigen::Index i = 0; i < c.normals.rows(); ++i)  // wrong, but oriented alike

@@ -227,6 +227,38 @@ TEST(OrientNormals, CapFacesItsConvexSideBeforeUp) {
   EXPECT_EQ(count_facing_inward(P, r.normals, {0, 0, 0}), 0u);
 }
 
+// A chosen side: an axis direction turns a sheet to face it (a saddle, and
+// a plane turned to x = 0, which rule 2 of Auto leaves to the farthest point);
+// outward and inward go by the flux.
+TEST(OrientNormals, ChosenSideIsFaced) {
+  const auto [P, up] = saddle(0.3);
+  const Neighborhoods N = knn_neighborhoods(P, 10);
+  OrientNormalsParams params;
+  params.side = NormalSide::MinusZ;
+  EXPECT_TRUE(orient_normals(P, random_signs(up, 71), N, params).normals == -up);
+  params.side = NormalSide::PlusZ;
+  EXPECT_TRUE(orient_normals(P, random_signs(up, 73), N, params).normals == up);
+
+  auto [wall, facing_x] = saddle(0.0);
+  wall.col(0).swap(wall.col(2));
+  facing_x.col(0).swap(facing_x.col(2));
+  const Neighborhoods W = knn_neighborhoods(wall, 10);
+  params.side = NormalSide::PlusX;
+  EXPECT_TRUE(orient_normals(wall, -facing_x, W, params).normals == facing_x);
+  params.side = NormalSide::MinusX;
+  EXPECT_TRUE(orient_normals(wall, facing_x, W, params).normals == -facing_x);
+
+  const Positions sphere = test::fibonacci_sphere(2000, 1.0).P;
+  const Neighborhoods S = knn_neighborhoods(sphere, 10);
+  const Normals outward = sphere;
+  params.side = NormalSide::Inward;
+  EXPECT_TRUE(orient_normals(sphere, random_signs(outward, 83), S, params).normals == -outward);
+  params.side = NormalSide::Outward;
+  EXPECT_TRUE(orient_normals(sphere, random_signs(outward, 89), S, params).normals == outward);
+  params.side = static_cast<NormalSide>(42);
+  EXPECT_THROW(orient_normals(sphere, outward, S, params), std::invalid_argument);
+}
+
 // Grid points' 5 nearest neighbors are themselves and their grid neighbors,
 // 1 away; a point 0.9 above a cell center (1.14 from its corners) is nobody's
 // neighbor but has neighbors. Treated as undirected, all is one component.

@@ -188,6 +188,16 @@ void bind_remove_texture(py::module_& m) {
   py::enum_<SubneighborhoodMode>(m, "SubneighborhoodMode")
       .value("Hard", SubneighborhoodMode::Hard)
       .value("Soft", SubneighborhoodMode::Soft);
+  py::enum_<NormalSide>(m, "NormalSide")
+      .value("Auto", NormalSide::Auto)
+      .value("Outward", NormalSide::Outward)
+      .value("Inward", NormalSide::Inward)
+      .value("PlusX", NormalSide::PlusX)
+      .value("MinusX", NormalSide::MinusX)
+      .value("PlusY", NormalSide::PlusY)
+      .value("MinusY", NormalSide::MinusY)
+      .value("PlusZ", NormalSide::PlusZ)
+      .value("MinusZ", NormalSide::MinusZ);
   py::enum_<GuidanceMode>(m, "GuidanceMode")
       .value("PatchShift", GuidanceMode::PatchShift)
       .value("Plain", GuidanceMode::Plain);

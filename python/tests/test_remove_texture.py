@@ -47,6 +47,25 @@ def test_ignore_input_normals_is_the_command_lines(cube, work):
     assert np.array_equal(detexture.read_point_cloud(out).positions, r.positions)
 
 
+def test_orient_side_is_the_command_lines(cube, work):
+    """The cube's normals estimated and turned inward, as by --orient inward."""
+    out = work / "cli_inward.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--ignore-normals", "--orient", "inward", "-q",
+            "--force")
+    cloud = detexture.read_point_cloud(cube)
+    inward = detexture.remove_texture(cloud.positions, radius=0.09, orient_side="inward")
+    named = detexture.remove_texture(cloud.positions, radius=0.09,
+                                     orient_side=detexture.NormalSide.Inward)
+    outward = detexture.remove_texture(cloud.positions, radius=0.09)
+    centre = cloud.positions.mean(axis=0)
+    facing = np.einsum("ij,ij->i", inward.input_normals, cloud.positions - centre)
+    assert (facing < 0).mean() > 0.99
+    assert np.array_equal(inward.input_normals, -outward.input_normals)
+    assert np.array_equal(named.normals, inward.normals)
+    assert np.array_equal(detexture.read_point_cloud(out).normals, inward.normals)
+    assert detexture.default_parameters()["orient_side"] == detexture.NormalSide.Auto
+
+
 def test_float32_and_any_layout_are_accepted(cube):
     cloud = detexture.read_point_cloud(cube)
     P = cloud.positions.astype(np.float32)

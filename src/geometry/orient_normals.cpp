@@ -210,7 +210,8 @@ class EdgeMeasurer {
 // face the side the header's "Side" rules choose: outward by the flux
 // Σ n̂·(p - c) when it is clear, up for a flat open sheet, else outward at the
 // point farthest from the centroid c.
-bool flip_component(const std::vector<std::uint32_t>& members, const std::vector<Node>& node) {
+bool flip_component(const std::vector<std::uint32_t>& members, const std::vector<Node>& node,
+                    NormalSide side) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const std::uint32_t v : members) centroid += node[v].position;
   centroid /= static_cast<double>(members.size());
@@ -223,11 +224,26 @@ bool flip_component(const std::vector<std::uint32_t>& members, const std::vector
     distances += offset.norm();
     resultant += oriented;
   }
-  if (std::abs(flux) >= kOutwardFluxRatio * distances) return flux < 0.0;
-  const double length = resultant.norm();
-  if (length >= kOpenSheetResultant * static_cast<double>(members.size()) &&
-      std::abs(resultant.z()) >= kUpwardCosine * length)
-    return resultant.z() < 0.0;
+  switch (side) {
+    case NormalSide::Auto: {
+      if (std::abs(flux) >= kOutwardFluxRatio * distances) return flux < 0.0;
+      const double length = resultant.norm();
+      if (length >= kOpenSheetResultant * static_cast<double>(members.size()) &&
+          std::abs(resultant.z()) >= kUpwardCosine * length)
+        return resultant.z() < 0.0;
+      break;
+    }
+    case NormalSide::Outward:
+    case NormalSide::Inward:
+      if (flux != 0.0) return (flux < 0.0) == (side == NormalSide::Outward);
+      break;
+    default: {
+      const int k = (static_cast<int>(side) - static_cast<int>(NormalSide::PlusX)) / 2;
+      const bool plus = (static_cast<int>(side) - static_cast<int>(NormalSide::PlusX)) % 2 == 0;
+      if (resultant(k) != 0.0) return (resultant(k) < 0.0) == plus;
+      break;
+    }
+  }
   std::uint32_t farthest = members.front();
   double farthest_sq = -1.0;
   for (const std::uint32_t v : members) {
@@ -248,11 +264,18 @@ OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
   return orient_normals(P, normals, N, OrientNormalsParams{});
 }
 
-OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
-                                   const Neighborhoods& N, const OrientNormalsParams& params) {
+void validate(const OrientNormalsParams& params) {
   if (!(params.cross_sheet_angle > 0.0 && params.cross_sheet_angle <= 90.0))
     throw std::invalid_argument("the cross-sheet angle must be in (0, 90] degrees, got " +
                                 std::to_string(params.cross_sheet_angle));
+  if (static_cast<int>(params.side) < static_cast<int>(NormalSide::Auto) ||
+      static_cast<int>(params.side) > static_cast<int>(NormalSide::MinusZ))
+    throw std::invalid_argument("the normal side is not one of NormalSide's values");
+}
+
+OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
+                                   const Neighborhoods& N, const OrientNormalsParams& params) {
+  validate(params);
   if (normals.rows() != P.rows())
     throw std::invalid_argument("the cloud has " + std::to_string(P.rows()) + " points but " +
                                 std::to_string(normals.rows()) + " normals");
@@ -315,7 +338,7 @@ OrientNormalsResult orient_normals(const Positions& P, const Normals& normals,
       relax(u, nu, reverse.begin(top), reverse.end(top));
     }
 
-    if (flip_component(members, node)) {
+    if (flip_component(members, node, params.side)) {
       for (const std::uint32_t v : members) node[v].sign = -node[v].sign;
     }
     ++result.components;

@@ -107,6 +107,7 @@ void validate(const RemoveTextureParams& p) {
   r.sigma_s = 1.0;
   validate(r);
   validate(p.sheets);
+  validate(p.orient);
   validate(p.surface_split);
   ShrinkToThinPartsParams thin = p.thin_parts;
   thin.radius = 1.0;
@@ -311,7 +312,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       rep.normals_degenerate = est.degenerate;
       rep.normals_estimated = true;
     }
-    OrientNormalsResult oriented = orient_normals(P, raw, K);
+    OrientNormalsResult oriented = orient_normals(P, raw, K, params.orient);
     rep.normals_flipped = oriented.flipped;
     result.input_normals = std::move(oriented.normals);
   } else {

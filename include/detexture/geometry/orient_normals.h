@@ -9,6 +9,14 @@
 
 namespace detexture {
 
+/// Which side each connected component's normals face (orient_normals,
+/// "Side" below): Auto chooses it from the shape; Outward and Inward by the
+/// component's flux alone (rule 1 without its threshold); the others face
+/// the named axis direction on average (Σ n̂ along it > 0), for a scan seen
+/// from that direction, like CloudCompare's preferred orientation, PCL's
+/// viewpoint or Open3D's orient_normals_to_align_with_direction.
+enum class NormalSide { Auto, Outward, Inward, PlusX, MinusX, PlusY, MinusY, PlusZ, MinusZ };
+
 struct OrientNormalsParams {
   /// Suspected cross-sheet edges, in degrees, in (0, 90]; default 15.
   /// An edge i-j is suspected of jumping between the two sides of a thin
@@ -25,7 +33,14 @@ struct OrientNormalsParams {
   /// surfaces (harmless on its own: demoted edges are still used, only later).
   /// The thin-plate test fails at 60 degrees and passes at 15 with k up to 30.
   double cross_sheet_angle = 15.0;
+  /// Side each connected component faces; Auto = the rules of "Side" below.
+  /// A component the chosen rule cannot decide (Outward on a plane, +x on a
+  /// sheet parallel to x) falls back to the farthest-point rule (rule 3).
+  NormalSide side = NormalSide::Auto;
 };
+
+/// Throws std::invalid_argument naming a parameter out of range.
+void validate(const OrientNormalsParams& params);
 
 struct OrientNormalsResult {
   Normals normals;             ///< #P by 3 input normals, flipped where needed; zero stays zero
@@ -68,7 +83,8 @@ struct OrientNormalsResult {
 /// rim is thinner than the sampling is ambiguous to any local rule.
 ///
 /// Side: propagation fixes the signs within a connected component relative
-/// to each other; which way the whole component faces is chosen from its
+/// to each other; which way the whole component faces is params.side
+/// (NormalSide). With Auto, the default, it is chosen from the component's
 /// shape, with c its centroid, n̂ its oriented unit normals and m = Σ n̂:
 ///  1. Outward, when the flux says so clearly: |Σ n̂·(p - c)| >=
 ///     kOutwardFluxRatio Σ |p - c|, and the sign of the sum decides. On a

@@ -17,6 +17,7 @@
 #include "detexture/geometry/estimate_neighborhoods_memory.h"
 #include "detexture/geometry/face_normals.h"
 #include "detexture/geometry/limit_neighborhoods_to_mesh.h"
+#include "detexture/geometry/orient_normals.h"
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/geometry/shrink_to_thin_parts.h"
 #include "detexture/pipeline/detect_texture.h"
@@ -118,6 +119,11 @@ struct RemoveTextureParams {
   int normal_neighbors = 16;
   /// Re-orient the input normals consistently (Hoppe MST) before filtering.
   bool reorient = false;
+  /// How estimated (or reoriented) normals are oriented: the side each
+  /// connected part faces, and the cross-sheet angle (orient_normals.h).
+  /// Not used when the input's normals are kept, nor for meshes whose
+  /// normals come from their faces.
+  OrientNormalsParams orient;
   /// Estimate the normals from the positions (as for a cloud without
   /// normals) even when the input has them: for scans whose normals are
   /// noisy, smoothed by the scanner or wrong in places. With faces and
