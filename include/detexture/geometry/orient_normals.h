@@ -33,7 +33,8 @@ struct OrientNormalsParams {
   /// surfaces (harmless on its own: demoted edges are still used, only later).
   /// The thin-plate test fails at 60 degrees and passes at 15 with k up to 30.
   double cross_sheet_angle = 15.0;
-  /// Side each connected component faces; Auto = the rules of "Side" below.
+  /// Side each connected component faces; Auto = the rules of "Side" in
+  /// orient_normals.h (outward by the flux, up for a flat open sheet).
   /// A component the chosen rule cannot decide (Outward on a plane, +x on a
   /// sheet parallel to x) falls back to the farthest-point rule (rule 3).
   NormalSide side = NormalSide::Auto;
