@@ -198,7 +198,10 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
         json_text(r.scale.reason).c_str());
   add("  \"neighbors_mean\": %.6g,\n  \"neighbors_min\": %zu,\n  \"neighbors_max\": %zu,\n",
       r.neighbors.mean, r.neighbors.min, r.neighbors.max);
-  add("  \"normals_ignored\": %s,\n", r.normals_ignored ? "true" : "false");
+  add("  \"normals_ignored\": %s,\n  \"normals_estimated\": %s,\n",
+      r.normals_ignored ? "true" : "false", r.normals_estimated ? "true" : "false");
+  add("  \"normals_flipped\": %zu,\n  \"orientation_inconsistency\": %.6g,\n", r.normals_flipped,
+      r.orientation_inconsistency);
   add("  \"duplicates_merged\": %zu,\n", r.duplicates_merged);
   add("  \"opposite_neighbors\": %zu,\n", r.opposite_neighbors);
   add("  \"surface_split_neighbors\": %zu,\n", r.surface_split_neighbors);

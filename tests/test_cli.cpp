@@ -217,6 +217,20 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
 }
 
+// The number after `key` in `text` (a --stats file), -1 if key is absent.
+double number_after(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return -1.0;
+  return std::strtod(text.c_str() + at + key.size(), nullptr);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 // A plane without normals: its estimated normals face up by default (a flat
 // open sheet), down with --orient=-z; an unknown side is a usage error.
 TEST_F(Cli, OrientChoosesTheSideOfEstimatedNormals) {
@@ -224,8 +238,22 @@ TEST_F(Cli, OrientChoosesTheSideOfEstimatedNormals) {
                 "--ground-truth-points 10 -o " +
                 path("in.ply")),
             0);
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("up.ply") + " -r 0.05"), 0) << stderr_;
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("down.ply") + " -r 0.05 --orient=-z"), 0) << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("up.ply") + " -r 0.05 --stats " + path("up.json")),
+            0)
+      << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("down.ply") + " -r 0.05 --orient=-z --stats " +
+                path("down.json")),
+            0)
+      << stderr_;
+  // The stats say the normals were estimated and how many signs orientation
+  // changed: between them, the two runs turned every normal once.
+  const std::string up_stats = read_text(path("up.json")),
+                    down_stats = read_text(path("down.json"));
+  EXPECT_NE(up_stats.find("\"normals_estimated\": true"), std::string::npos) << up_stats;
+  EXPECT_EQ(number_after(up_stats, "\"normals_flipped\": ") +
+                number_after(down_stats, "\"normals_flipped\": "),
+            5000.0);
+  EXPECT_EQ(number_after(up_stats, "\"orientation_inconsistency\": "), 0.0) << up_stats;
   ASSERT_EQ(run(path("in.ply") + " -o " + path("down2.ply") + " -r 0.05 --orient -Z"), 0)
       << stderr_;
   const PointCloud up = read_point_cloud(path("up.ply")), down = read_point_cloud(path("down.ply"));
@@ -290,19 +318,6 @@ TEST_F(Cli, HelpListsEveryParameterWithItsSymbol) {
 
 // Auto mode (issue 10): the texture scale is estimated, reported, and used
 // for r unless -r is given; the warnings of a badly chosen r.
-double number_after(const std::string& text, const std::string& key) {
-  const std::size_t at = text.find(key);
-  if (at == std::string::npos) return -1.0;
-  return std::strtod(text.c_str() + at + key.size(), nullptr);
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST_F(Cli, ScaleReportPrintsTheEstimateAndWritesNothing) {
   ASSERT_EQ(run("synth --shape plane --texture domes --size 0.03 --amplitude 0.01 -n 40000 "
                 "--ground-truth-points 10 -o " +
