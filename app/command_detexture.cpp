@@ -113,6 +113,18 @@ std::string name_of(const std::map<std::string, E>& names, E value) {
   return "?";
 }
 
+// An option taking one of `names` (any case), shown as TYPE with the
+// library's default.
+template <class E>
+CLI::Option* add_choice(CLI::App& app, const std::string& flags, E& target,
+                        const std::map<std::string, E>& names, const std::string& description,
+                        const std::string& type) {
+  return app.add_option(flags, target, description)
+      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case).description(""))
+      ->type_name(type)
+      ->default_str(name_of(names, target));
+}
+
 std::string json_text(const std::string& s) {
   std::string out;
   for (char c : s) {
@@ -398,13 +410,11 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   std::map<std::string, UnderlyingSurface> surfaces{{"plane", UnderlyingSurface::Plane},
                                                     {"quadric", UnderlyingSurface::Quadric}};
-  app.add_option("--surface", params.texture.surface,
-                 "Model of the underlying surface in each neighborhood (Eq. 2): plane (the "
-                 "paper: piecewise flat) or quadric (ours: the RANSAC plane bent to a curved "
-                 "surface, for organic shapes)")
-      ->transform(CLI::CheckedTransformer(surfaces, CLI::ignore_case).description(""))
-      ->type_name("MODEL")
-      ->default_str(name_of(surfaces, params.texture.surface));
+  add_choice(app, "--surface", params.texture.surface, surfaces,
+             "Model of the underlying surface in each neighborhood (Eq. 2): plane (the "
+             "paper: piecewise flat) or quadric (ours: the RANSAC plane bent to a curved "
+             "surface, for organic shapes)",
+             "MODEL");
   add_length(app, "--min-surface-radius", params.min_surface_radius,
              "Quadric surface: the tightest radius of curvature the underlying surface may "
              "have; more tightly curved relief is texture");
@@ -428,28 +438,21 @@ int run_detexture(int argc, char** argv) {
   std::map<std::string, UpdateMode> update_modes{{"global", UpdateMode::Global},
                                                  {"isotropic", UpdateMode::Isotropic},
                                                  {"eq9", UpdateMode::Eq9}};
-  app.add_option("--update", params.update.mode,
-                 "Position update: global (ours: one least-squares solve, removes the texture "
-                 "from the positions too), isotropic (the paper's Eq. 10), eq9 (Eq. 9, Fig. 8 "
-                 "ablation)")
-      ->transform(CLI::CheckedTransformer(update_modes, CLI::ignore_case).description(""))
-      ->type_name("MODE")
-      ->default_str(name_of(update_modes, params.update.mode));
+  add_choice(app, "--update", params.update.mode, update_modes,
+             "Position update: global (ours: one least-squares solve, removes the texture "
+             "from the positions too), isotropic (the paper's Eq. 10), eq9 (Eq. 9, Fig. 8 "
+             "ablation)",
+             "MODE");
   std::map<std::string, GuidanceMode> guidance_modes{{"patch-shift", GuidanceMode::PatchShift},
                                                      {"plain", GuidanceMode::Plain}};
-  app.add_option("--guidance", params.rolling.guidance.mode,
-                 "Guidance normals: plain (classic rolling guidance of Zheng et al. 2018; as "
-                 "good or better on both quality suites) or patch-shift (the paper, Eqs. 4-8)")
-      ->transform(CLI::CheckedTransformer(guidance_modes, CLI::ignore_case).description(""))
-      ->type_name("MODE")
-      ->default_str(name_of(guidance_modes, params.rolling.guidance.mode));
+  add_choice(app, "--guidance", params.rolling.guidance.mode, guidance_modes,
+             "Guidance normals: plain (classic rolling guidance of Zheng et al. 2018; as "
+             "good or better on both quality suites) or patch-shift (the paper, Eqs. 4-8)",
+             "MODE");
   std::map<std::string, NormalDifference> differences{
       {"angle", NormalDifference::Angle}, {"one-minus-cos", NormalDifference::OneMinusCos}};
-  app.add_option("--difference", params.rolling.guidance.difference,
-                 "D in Eq. 4-5 (patch-shift guidance): angle or one-minus-cos")
-      ->transform(CLI::CheckedTransformer(differences, CLI::ignore_case).description(""))
-      ->type_name("MODE")
-      ->default_str(name_of(differences, params.rolling.guidance.difference));
+  add_choice(app, "--difference", params.rolling.guidance.difference, differences,
+             "D in Eq. 4-5 (patch-shift guidance): angle or one-minus-cos", "MODE");
   app.add_flag("--no-blend", no_blend, "Skip the α blend of the patch-shift guidance (Eqs. 7-8)");
   std::string mesh_mode = "faces";
   app.add_option("--mesh", mesh_mode,
@@ -468,14 +471,12 @@ int run_detexture(int argc, char** argv) {
                  "normal is also within this angle (degrees) of the plane's; 180 = positions "
                  "alone (the paper)")
       ->capture_default_str();
-  app.add_option("--subneighborhood", params.texture.subneighborhood,
-                 "Ω_i in Eqs. 1 and 3: hard (the paper: surface points only) or soft (ours: "
-                 "weighted by the share of neighborhoods in which a point fits the plane; "
-                 "better on dense texture covering the whole surface, such as scales or "
-                 "knurls; worse on grooves)")
-      ->transform(CLI::CheckedTransformer(omega_modes, CLI::ignore_case).description(""))
-      ->type_name("MODE")
-      ->default_str(name_of(omega_modes, params.texture.subneighborhood));
+  add_choice(app, "--subneighborhood", params.texture.subneighborhood, omega_modes,
+             "Ω_i in Eqs. 1 and 3: hard (the paper: surface points only) or soft (ours: "
+             "weighted by the share of neighborhoods in which a point fits the plane; "
+             "better on dense texture covering the whole surface, such as scales or "
+             "knurls; worse on grooves)",
+             "MODE");
   app.add_option("--soft-floor", params.texture.soft_floor,
                  "Soft sub-neighborhood: a point fitting the plane in at most this share of its "
                  "neighborhoods weighs nothing; at δ or more it weighs fully")
@@ -500,16 +501,14 @@ int run_detexture(int argc, char** argv) {
                                  : params.output_normals.blend_high_deg > 0.0
                                      ? OutputNormals::Blended
                                      : OutputNormals::Fitted;
-  app.add_option("--output-normals", output_normals,
-                 "Clouds: blended (the normals of the output surface, a weighted plane fit to "
-                 "the output points guided by the filtered normals, taken where it agrees with "
-                 "the filtered normals around the point and the filtered normals where waves, "
-                 "grooves or noise left in the positions make them disagree), fitted (the fit "
-                 "everywhere) or filtered (the paper: the filtered normals, smoothed at σs). "
-                 "Meshes with --mesh faces take theirs from the output's faces")
-      ->transform(CLI::CheckedTransformer(output_normal_modes, CLI::ignore_case).description(""))
-      ->type_name("MODE")
-      ->default_str(name_of(output_normal_modes, output_normals));
+  add_choice(app, "--output-normals", output_normals, output_normal_modes,
+             "Clouds: blended (the normals of the output surface, a weighted plane fit to "
+             "the output points guided by the filtered normals, taken where it agrees with "
+             "the filtered normals around the point and the filtered normals where waves, "
+             "grooves or noise left in the positions make them disagree), fitted (the fit "
+             "everywhere) or filtered (the paper: the filtered normals, smoothed at σs). "
+             "Meshes with --mesh faces take theirs from the output's faces",
+             "MODE");
   add_length(app, "--fit-sigma", params.fit_sigma,
              "Fitted output normals: spatial scale of the fit's weights (neighbors within "
              "--solve-radius take part)");
@@ -564,13 +563,11 @@ int run_detexture(int argc, char** argv) {
       {"auto", NormalSide::Auto}, {"outward", NormalSide::Outward}, {"inward", NormalSide::Inward},
       {"+x", NormalSide::PlusX},  {"-x", NormalSide::MinusX},       {"+y", NormalSide::PlusY},
       {"-y", NormalSide::MinusY}, {"+z", NormalSide::PlusZ},        {"-z", NormalSide::MinusZ}};
-  app.add_option("--orient", params.orient.side,
-                 "Side that estimated (and --reorient) normals face, for each connected part: "
-                 "auto (outward for closed parts and caps, up (+z) for flat open sheets), "
-                 "outward, inward, or +x, -x, +y, -y, +z, -z (a scan seen from that direction)")
-      ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case).description(""))
-      ->type_name("SIDE")
-      ->default_str(name_of(sides, params.orient.side));
+  add_choice(app, "--orient", params.orient.side, sides,
+             "Side that estimated (and --reorient) normals face, for each connected part: "
+             "auto (outward for closed parts and caps, up (+z) for flat open sheets), "
+             "outward, inward, or +x, -x, +y, -y, +z, -z (a scan seen from that direction)",
+             "SIDE");
   app.add_flag("--ignore-normals", params.ignore_input_normals,
                "Estimate the normals from the positions (as for a cloud without normals) even "
                "when the input has them: for scans whose normals are noisy or wrong in places");

@@ -207,9 +207,10 @@ class EdgeMeasurer {
 };
 
 // Whether a component whose relative signs are final must be turned over to
-// face the side the header's "Side" rules choose: outward by the flux
-// Σ n̂·(p - c) when it is clear, up for a flat open sheet, else outward at the
-// point farthest from the centroid c.
+// face `side` (the header's "Side"): for Auto, outward by the flux
+// Σ n̂·(p - c) when it is clear, up for a flat open sheet; for the others,
+// their rule. What the rule leaves undecided goes outward at the point
+// farthest from the centroid c.
 bool flip_component(const std::vector<std::uint32_t>& members, const std::vector<Node>& node,
                     NormalSide side) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -237,7 +238,7 @@ bool flip_component(const std::vector<std::uint32_t>& members, const std::vector
     case NormalSide::Inward:
       if (flux != 0.0) return (flux < 0.0) == (side == NormalSide::Outward);
       break;
-    default: {
+    default: {  // PlusX, MinusX, PlusY, ...: axis k, sign by the parity of the offset
       const int k = (static_cast<int>(side) - static_cast<int>(NormalSide::PlusX)) / 2;
       const bool plus = (static_cast<int>(side) - static_cast<int>(NormalSide::PlusX)) % 2 == 0;
       if (resultant(k) != 0.0) return (resultant(k) < 0.0) == plus;
