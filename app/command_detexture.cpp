@@ -492,6 +492,11 @@ int run_detexture(int argc, char** argv) {
                  "sit from the surface fitted to their neighborhood (noise, wave flanks), with "
                  "a Gaussian fall-off of this multiple of λ; 0 holds them all fully")
       ->capture_default_str();
+  app.add_option("--anchor-angle", params.anchor_angle,
+                 "Global update: surface points are also held less the more their input normal "
+                 "turns from the filtered normal (the foot of a bump, noise), with a Gaussian "
+                 "fall-off of this angle (degrees); 0 turns it off")
+      ->capture_default_str();
   enum class OutputNormals { Filtered, Fitted, Blended };
   const std::map<std::string, OutputNormals> output_normal_modes{
       {"filtered", OutputNormals::Filtered},

@@ -247,9 +247,12 @@ DETEXTURE_VARIANTS = [
                      "--thin-part-radius", "1", "--guidance", "patch-shift",
                      "--surface-split-angle", "180", "--output-normals", "filtered"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
-    ("full-anchors", ["--anchor-height", "0"],
+    ("full-anchors", ["--anchor-height", "0", "--anchor-angle", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
      "a wave's flank (before session 6)"),
+    ("no-anchor-angle", ["--anchor-angle", "0"],
+     "surface points held at their place whatever the tilt of their input normal against the "
+     "filtered one (the default before session 12)"),
     ("no-surface-split", ["--surface-split-angle", "180"],
      "R_i not split after texture detection: points past a tip or a rim stay in each other's "
      "R_i unless back to back (before session 8)"),
@@ -367,7 +370,7 @@ RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
-    "estimated-normals": 0.15,
+    "estimated-normals": 0.15, "no-anchor-angle": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

@@ -292,12 +292,26 @@ TEST_F(Cli, IgnoreNormalsRunsAsOnTheSamePointsWithoutNormals) {
 
 TEST_F(Cli, BadParametersAreUsageErrors) {
   write_point_cloud(path("in.ply"), bumpy(true));
-  for (const char* args :
-       {"--delta 2", "--radius abc", "--radius -1", "--sigma-r 0", "--update sideways",
-        "--planes 4", "--threads -1", "--bogus", "--output-normals smooth", "--fit-sigma 0",
-        "--fit-max-turn 0", "--fit-range-sigma -1", "--blend-high -1",
-        "--blend-low 3 --blend-high 2", "--blend-low -1", "--blend-low 200 --blend-high 0",
-        "--output-normals fitted --blend-high 3", "--output-normals filtered --blend-low 0.5"}) {
+  for (const char* args : {"--delta 2",
+                           "--radius abc",
+                           "--radius -1",
+                           "--sigma-r 0",
+                           "--update sideways",
+                           "--planes 4",
+                           "--threads -1",
+                           "--bogus",
+                           "--output-normals smooth",
+                           "--fit-sigma 0",
+                           "--fit-max-turn 0",
+                           "--fit-range-sigma -1",
+                           "--blend-high -1",
+                           "--blend-low 3 --blend-high 2",
+                           "--blend-low -1",
+                           "--blend-low 200 --blend-high 0",
+                           "--output-normals fitted --blend-high 3",
+                           "--output-normals filtered --blend-low 0.5",
+                           "--anchor-angle -1",
+                           "--anchor-angle nan"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

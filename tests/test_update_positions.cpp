@@ -82,6 +82,46 @@ TEST(UpdatePositions, AnchorsFallOffWithTheHeightAboveTheFittedSurface) {
   EXPECT_THROW(update_positions(noisy, up, R, surface, {}, params), std::invalid_argument);
 }
 
+// The same noisy plane, every point at height 0 above its fitted surface (so
+// the height fall-off holds all fully), with input normals tilted by 30°
+// from the filtered +z, as on the foot of a bump. At an angle scale of 15°
+// each surface anchor keeps exp(-2) of its weight and the points settle as
+// when the height fall-off freed them; input normals that agree with the
+// filtered ones, or zero ones (no evidence), leave the result unchanged.
+TEST(UpdatePositions, AnchorsFallOffWithTheTiltOfTheInputNormal) {
+  auto [s, R, det, up, params] = bump_case(61);
+  Positions noisy = s.P;
+  for (Eigen::Index i = 0; i < noisy.rows(); ++i)
+    noisy(i, 2) = ((i + i / 61) % 2 == 0 ? 1.0 : -1.0) * 0.001;
+  const std::vector<float> zero(static_cast<std::size_t>(noisy.rows()), 0.0f);
+  const std::vector<std::uint8_t> surface(zero.size(), 0);
+  const auto rms = [](const Positions& Q) {
+    return std::sqrt(Q.col(2).squaredNorm() / static_cast<double>(Q.rows()));
+  };
+  const double t = 30.0 * M_PI / 180.0;
+  Normals tilted(noisy.rows(), 3);
+  tilted.rowwise() = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
+  const Positions held = update_positions(noisy, up, R, surface, zero, tilted, params).positions;
+  params.anchor_angle_deg = 15.0;
+  const Positions freed = update_positions(noisy, up, R, surface, zero, tilted, params).positions;
+  EXPECT_GT(rms(held), 0.3e-3);  // anchored fully: about half the noise stays
+  EXPECT_LT(rms(freed), 0.5 * rms(held));
+  EXPECT_EQ(update_positions(noisy, up, R, surface, zero, up, params).positions, held);
+  const Normals none = Normals::Zero(noisy.rows(), 3);
+  EXPECT_EQ(update_positions(noisy, up, R, surface, zero, none, params).positions, held);
+  // Texture points are anchored weakly whatever their normals: unchanged.
+  const std::vector<std::uint8_t> texture(zero.size(), 1);
+  params.anchor_angle_deg = 0.0;
+  const Positions weak = update_positions(noisy, up, R, texture, zero, tilted, params).positions;
+  params.anchor_angle_deg = 15.0;
+  EXPECT_EQ(update_positions(noisy, up, R, texture, zero, tilted, params).positions, weak);
+  // The input normals are required when the anchors fall off with them.
+  EXPECT_THROW(update_positions(noisy, up, R, surface, zero, params), std::invalid_argument);
+  params.anchor_angle_deg = -1.0;
+  EXPECT_THROW(update_positions(noisy, up, R, surface, zero, tilted, params),
+               std::invalid_argument);
+}
+
 // The move limit cuts every move longer than it to its length, along the
 // same direction, and counts those points; shorter moves are untouched.
 TEST(UpdatePositions, MoveLimitCutsLongMovesOnly) {

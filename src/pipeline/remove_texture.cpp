@@ -93,6 +93,9 @@ void validate(const RemoveTextureParams& p) {
   if (!(p.anchor_height >= 0.0) || !std::isfinite(p.anchor_height))
     throw std::invalid_argument("the anchor height must be >= 0 (a multiple of lambda), got " +
                                 number_text(p.anchor_height));
+  if (!(p.anchor_angle >= 0.0) || !std::isfinite(p.anchor_angle))
+    throw std::invalid_argument("the anchor angle must be >= 0 degrees (0 for none), got " +
+                                number_text(p.anchor_angle));
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
   if (p.threads < 0)
@@ -423,14 +426,15 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     up.sigma_p = rep.sigma_p;
     up.max_move = rep.max_move;
     up.anchor_height = params.anchor_height * rep.lambda;
+    up.anchor_angle_deg = params.anchor_angle;
     up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
     // The global solve reads only the part of R_i within the solve radius:
     // keep that part alone, so the solve's coefficients take the place of the
     // rest instead of adding to the peak memory.
     if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
       shrink_neighborhoods(R, P, up.solve_radius);
-    UpdatePositionsResult u =
-        update_positions(P, filtered, R, result.is_texture, surface_height, up, clock.progress());
+    UpdatePositionsResult u = update_positions(P, filtered, R, result.is_texture, surface_height,
+                                               result.input_normals, up, clock.progress());
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;

@@ -25,6 +25,9 @@ void validate(const UpdatePositionsParams& p) {
   if (!(p.anchor_height >= 0.0) || !std::isfinite(p.anchor_height))
     throw std::invalid_argument("the anchor height scale must be >= 0, got " +
                                 number_text(p.anchor_height));
+  if (!(p.anchor_angle_deg >= 0.0) || !std::isfinite(p.anchor_angle_deg))
+    throw std::invalid_argument("the anchor angle scale must be >= 0 degrees (0 for none), got " +
+                                number_text(p.anchor_angle_deg));
   if (!(p.solve_radius >= 0.0)) throw std::invalid_argument("the solve radius cannot be negative");
   if (p.max_iterations < 1)
     throw std::invalid_argument("the position update needs at least one iteration");
@@ -96,7 +99,7 @@ UpdatePositionsResult update_local(const Positions& P, const Normals& N, const N
 // symmetric, so the matrix is too.
 UpdatePositionsResult update_global(const Positions& P, const Normals& N, const Neighborhoods& R,
                                     const std::vector<std::uint8_t>& is_texture,
-                                    const std::vector<float>& height,
+                                    const std::vector<float>& height, const Normals& input_normals,
                                     const UpdatePositionsParams& params,
                                     const ProgressFn& progress) {
   const std::size_t n = R.size();
@@ -139,12 +142,23 @@ UpdatePositionsResult update_global(const Positions& P, const Normals& N, const 
       b_i -= w * a * c;
     }
     double beta = is_texture[i] ? params.anchor_texture : params.anchor_surface;
-    if (!is_texture[i] && params.anchor_height > 0.0) {
+    if (!is_texture[i] && (params.anchor_height > 0.0 || params.anchor_angle_deg > 0.0)) {
       // A surface point off its own fitted surface (noise, the flank of a
-      // wave) is held less: its input position is not the surface either.
-      const double q = height[i] / params.anchor_height;
+      // wave), or tilted against the filtered normals (the foot of a bump),
+      // is held less: its input position is not the surface either.
+      double e = 0.0;
+      if (params.anchor_height > 0.0) {
+        const double q = height[i] / params.anchor_height;
+        e += q * q;
+      }
+      // A point without a usable input normal (zero) gives no evidence.
+      if (params.anchor_angle_deg > 0.0 && input_normals.row(i).squaredNorm() > 0.0) {
+        const double c = std::clamp(input_normals.row(i).dot(ni), -1.0, 1.0);
+        const double q = std::acos(c) * (180.0 / M_PI) / params.anchor_angle_deg;
+        e += q * q;
+      }
       beta = params.anchor_texture +
-             (params.anchor_surface - params.anchor_texture) * std::exp(-0.5 * q * q);
+             (params.anchor_surface - params.anchor_texture) * std::exp(-0.5 * e);
     }
     if (data <= 0.0) {
       ++isolated;
@@ -251,6 +265,13 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
                                        const std::vector<float>& height,
                                        const UpdatePositionsParams& params,
                                        const ProgressFn& progress) {
+  return update_positions(P, filtered, R, is_texture, height, Normals(), params, progress);
+}
+
+UpdatePositionsResult update_positions(
+    const Positions& P, const Normals& filtered, const Neighborhoods& R,
+    const std::vector<std::uint8_t>& is_texture, const std::vector<float>& height,
+    const Normals& input_normals, const UpdatePositionsParams& params, const ProgressFn& progress) {
   validate(params);
   if (static_cast<std::size_t>(P.rows()) != R.size() || filtered.rows() != P.rows())
     throw std::invalid_argument(
@@ -260,10 +281,15 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
     throw std::invalid_argument(
         "update_positions: anchor_height needs the height of every point (" +
         std::to_string(P.rows()) + "), got " + std::to_string(height.size()));
+  if (params.mode == UpdateMode::Global && params.anchor_angle_deg > 0.0 &&
+      input_normals.rows() != P.rows())
+    throw std::invalid_argument(
+        "update_positions: anchor_angle_deg needs the input normal of every point (" +
+        std::to_string(P.rows()) + "), got " + std::to_string(input_normals.rows()));
   UpdatePositionsResult out;
   switch (params.mode) {
     case UpdateMode::Global:
-      out = update_global(P, filtered, R, is_texture, height, params, progress);
+      out = update_global(P, filtered, R, is_texture, height, input_normals, params, progress);
       break;
     case UpdateMode::Isotropic:
       out = update_local(P, filtered, R, params, true, progress);

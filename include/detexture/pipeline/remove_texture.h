@@ -113,6 +113,18 @@ struct RemoveTextureParams {
   /// of λ (update_positions.h). Noise and the flanks of waves then leave
   /// with the texture. 0 anchors every surface point fully (before session 6).
   double anchor_height = 0.5;
+  /// Global update: surface points are also anchored less the more their
+  /// input normal turns from the filtered normal: by exp(-θ²/(2 a²)) with a
+  /// this angle in degrees (update_positions.h); ≥ 0, 0 = off (before
+  /// session 12). A point within λ of its fitted model but tilted against the
+  /// underlying surface sits on the foot or flank of a feature, or in noise.
+  /// 15° was measured against 10° and 20° on both quality suites and on 30
+  /// textured models no suite uses (bench/quality_real_notes.md, session
+  /// 12): residual texture -14% to -22% on the cube with bumps, the noisy
+  /// cube, the multiscale sphere, the noisy ellipsoid and the saddle; at most
+  /// +3% anywhere (dense scales on a cylinder); at 10° the gains were larger
+  /// but the scales lost 9%.
+  double anchor_angle = 15.0;
   /// Keep at most this many nearest neighbors in R_i (0 = all).
   int max_neighbors = 0;
   /// Neighbors used to estimate and orient normals when the input has none.

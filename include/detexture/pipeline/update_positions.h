@@ -62,6 +62,14 @@ struct UpdatePositionsParams {
   /// exp(-h² / (2 s²)), since its input position is not the surface either.
   /// 0 anchors every surface point fully. remove_texture sets it from λ.
   double anchor_height = 0.0;
+  /// Global: angle scale a of a second fall-off of the surface anchors, in
+  /// degrees; ≥ 0. A surface point whose input normal (the `input_normals`
+  /// argument) turns by θ from its filtered normal is anchored with a further
+  /// factor exp(-θ² / (2 a²)) on the surface part of its weight: it sits on
+  /// the foot or flank of a feature, or in noise, where its input position is
+  /// not the underlying surface either, although it lies within λ of a fitted
+  /// model. 0 turns this fall-off off. remove_texture sets it (15°).
+  double anchor_angle_deg = 0.0;
   /// Global: only members of Ψ_i closer than this take part in the solve, in
   /// the cloud's units; 0 uses all of R_i.
   double solve_radius = 0.0;
@@ -101,6 +109,17 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
                                        const Neighborhoods& R,
                                        const std::vector<std::uint8_t>& is_texture,
                                        const std::vector<float>& height,
+                                       const UpdatePositionsParams& params,
+                                       const ProgressFn& progress = {});
+
+/// The same with the input normals (#P by 3, the normals each point came
+/// with), which Global needs when params.anchor_angle_deg > 0 (throws
+/// std::invalid_argument if missing).
+UpdatePositionsResult update_positions(const Positions& P, const Normals& filtered,
+                                       const Neighborhoods& R,
+                                       const std::vector<std::uint8_t>& is_texture,
+                                       const std::vector<float>& height,
+                                       const Normals& input_normals,
                                        const UpdatePositionsParams& params,
                                        const ProgressFn& progress = {});
 
