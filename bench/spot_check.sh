@@ -11,6 +11,13 @@
 # (cmake -DDETEXTURE_BUILD_PEERS=ON). Prints one line per case and run:
 # Dmean, Dmax, residual texture (the standard deviation of the signed
 # distance) and mean normal error, as `detexture compare` gives them.
+#
+# Then a wider check, the rule only: ten more models, each with the three
+# kinds of relief of the real suite (sparse bumps R 0.012, dense scales R
+# 0.015, dense domes R 0.02, as synth makes them), 30 cases. Each line says
+# where the result is worse than the input (RES: residual texture, NERR:
+# normal error) or its Dmax over 1.25 times the input's (DMAX), issue 9's
+# criteria; a count of each ends the run.
 set -euo pipefail
 build=$(realpath "${1:-build}")
 work=${2:-$build/bench-spot}
@@ -46,3 +53,55 @@ print('%-17s %-9s Dmean %.5f  Dmax %.5f  residual %.5f  normal error %.2f' % (
     '$name', '$run', m['dmean'], m['dmax'], m['signed_std'], m['normal_angle_mean_degrees']))"
   done
 done
+
+# The wider check (see the top). name, model, Loop levels.
+wide=(
+  "dwarf COB/dwarf.cob 1"
+  "epileptic X/BCN_Epileptic.X 1"
+  "suzanne BLEND/Suzanne_248.blend 2"
+  "faerie MD2/faerie.md2 1"
+  "sydney MD2/sydney.md2 1"
+  "at-at Q3D/E-AT-AT.q3o 1"
+  "jeep MS3D/jeep1.ms3d 1"
+  "thing Ogre/TheThing/Mesh.mesh.xml 1"
+  "axe BLEND/yxa_1.blend 1"
+  "mocap ASE/MotionCaptureROM.ase 1"
+)
+reliefs=("bumps sparse 0.012 0.004" "scales dense 0.015 0.005" "domes dense 0.02 0.006")
+mkdir -p "$work/wide"
+flags=$work/wide/flags.txt
+: >"$flags"
+for c in "${wide[@]}"; do
+  read -r name model levels <<<"$c"
+  base=$work/wide/$name.base.ply
+  "$build/bench/peers/prepare_mesh" "$models/$model" "$base" --components largest \
+    --subdivide "$levels" >"$work/wide/$name.prepare.log"
+  for relief in "${reliefs[@]}"; do
+    read -r texture layout size amplitude <<<"$relief"
+    stem=$work/wide/$name-$texture
+    rm -f "$stem.in.ply" "$stem.gt.ply"
+    "$build/detexture" synth --base-mesh "$base" --texture "$texture" --layout "$layout" \
+      --size "$size" --amplitude "$amplitude" --points 100000 --ground-truth-points 200000 \
+      --seed 1 -o "$stem.in.ply" --ground-truth "$stem.gt.ply" >"$stem.synth.log" 2>&1
+    r=$(/usr/bin/python3 -c "print(1.5 * $size)")
+    "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q
+    "$build/detexture" compare --json "$stem.in.ply" "$stem.gt.ply" >"$stem.in.json"
+    "$build/detexture" compare --json "$stem.rule.ply" "$stem.gt.ply" >"$stem.rule.json"
+    /usr/bin/python3 - "$stem" "$name-$texture" "$flags" <<'PY'
+import json, sys
+stem, name, flags = sys.argv[1:]
+a = json.load(open(stem + '.in.json'))
+b = json.load(open(stem + '.rule.json'))
+ratio = b['dmax'] / a['dmax']
+worse = [f for f, bad in (('RES', b['signed_std'] > a['signed_std']),
+                          ('NERR', b['normal_angle_mean_degrees'] > a['normal_angle_mean_degrees']),
+                          ('DMAX', ratio > 1.25)) if bad]
+print('%-17s residual %.5f -> %.5f  normal error %5.2f -> %5.2f  Dmax x%.2f  %s' % (
+    name, a['signed_std'], b['signed_std'], a['normal_angle_mean_degrees'],
+    b['normal_angle_mean_degrees'], ratio, ' '.join(worse)))
+open(flags, 'a').write(' '.join(worse) + '\n')
+PY
+  done
+done
+echo "wider check, $(wc -l <"$flags") cases: worse residual $(grep -c RES "$flags"), worse normal" \
+  "error $(grep -c NERR "$flags"), Dmax over 1.25 x the input's $(grep -c DMAX "$flags")"
