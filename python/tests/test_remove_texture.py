@@ -153,6 +153,18 @@ def test_surface_split_matches_the_command_line(cube, work):
     assert not np.array_equal(paper.positions, split.positions)
 
 
+def test_anchor_angle_matches_the_command_line(cube, work):
+    assert detexture.default_parameters()["anchor_angle"] == 15.0
+    out = work / "no_anchor_angle.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--anchor-angle", "0", "-q", "--force")
+    cloud = detexture.read_point_cloud(cube)
+    blind = detexture.remove_texture(cloud, radius=0.09, anchor_angle=0)
+    tilted = detexture.remove_texture(cloud, radius=0.09)
+    assert np.array_equal(detexture.read_point_cloud(out).positions, blind.positions)
+    assert np.array_equal(blind.is_texture, tilted.is_texture)  # detection is before the update
+    assert not np.array_equal(blind.positions, tilted.positions)
+
+
 def cli_error(*args):
     r = run_cli(*args, check=False)
     assert r.returncode != 0
