@@ -533,6 +533,16 @@ int run_detexture(int argc, char** argv) {
                  "Blended output normals: from this mean angle on (degrees), the filtered "
                  "normal; linearly between the two. 0 turns the blend off (= fitted)")
       ->capture_default_str();
+  app.add_option("--blend-coherence", params.output_normals.blend_coherence,
+                 "Blended output normals: where the fit's departures from the filtered normals "
+                 "around a point have no one direction (their largest eigenvalue's share below "
+                 "this; 1 = along one direction, as across waves or grooves), the fit is also "
+                 "taken up to --blend-isotropic-high. 0 turns this off")
+      ->capture_default_str();
+  app.add_option("--blend-isotropic-high", params.output_normals.blend_isotropic_high_deg,
+                 "Blended output normals: the mean angle (degrees) up to which the fit is taken "
+                 "where --blend-coherence allows")
+      ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
       ->capture_default_str();
@@ -614,9 +624,11 @@ int run_detexture(int argc, char** argv) {
   ProgressPrinter printer(quiet);
   try {
     if (output_normals != OutputNormals::Blended &&
-        (app.count("--blend-low") > 0 || app.count("--blend-high") > 0))
+        (app.count("--blend-low") > 0 || app.count("--blend-high") > 0 ||
+         app.count("--blend-coherence") > 0 || app.count("--blend-isotropic-high") > 0))
       throw std::invalid_argument(
-          "--blend-low and --blend-high apply to --output-normals blended only, not to " +
+          "--blend-low, --blend-high, --blend-coherence and --blend-isotropic-high apply to "
+          "--output-normals blended only, not to " +
           name_of(output_normal_modes, output_normals));
     params.fit_normals = output_normals != OutputNormals::Filtered;
     if (output_normals == OutputNormals::Fitted) params.output_normals.blend_high_deg = 0.0;

@@ -194,7 +194,7 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
         << mode << ": " << stderr_;
   // A blend window closed to almost nothing keeps the filtered normals
   // nearly everywhere.
-  const std::string narrow = " -r 0.2 --blend-low 0 --blend-high 0.001";
+  const std::string narrow = " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0";
   ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
   const PointCloud d = read_point_cloud(path("default.ply")),
                    b = read_point_cloud(path("blended.ply")),
@@ -311,7 +311,11 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--output-normals fitted --blend-high 3",
                            "--output-normals filtered --blend-low 0.5",
                            "--anchor-angle -1",
-                           "--anchor-angle nan"}) {
+                           "--anchor-angle nan",
+                           "--blend-coherence 1",
+                           "--blend-coherence -0.1",
+                           "--blend-isotropic-high 200",
+                           "--output-normals filtered --blend-coherence 0"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

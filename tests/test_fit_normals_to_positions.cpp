@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <random>
 #include <stdexcept>
 
 #include "detexture/pipeline/remove_texture.h"
@@ -74,9 +75,12 @@ Normals tilted_in_tangent_plane(const Normals& N, double deg) {
 TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
   const auto s = test::fibonacci_sphere(20000, 1.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
-  const FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
+  FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
   ASSERT_EQ(p.blend_low_deg, 1.0);
   ASSERT_EQ(p.blend_high_deg, 2.0);
+  // The mean-angle window alone (the isotropic path has its own test): near
+  // the tilt axis's poles the tilt's direction turns fast.
+  p.blend_coherence = 0.0;
   const auto rows = static_cast<std::size_t>(s.P.rows());
   for (const double tilt : {0.5, 1.5, 10.0}) {
     SCOPED_TRACE("tilt " + std::to_string(tilt));
@@ -98,6 +102,61 @@ TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
       }
     }
   }
+}
+
+// The isotropic path: guides tilted by 2.2° (past blend_high = 2°, under
+// blend_isotropic_high - 1° = 2.5°) about a direction that changes from
+// point to point, as where the positions hold facets or small features the
+// guide smooths over: the departures have no one direction (κ about 0.5),
+// so the fit is taken. Tilted the same way everywhere (κ about 1, as across
+// waves) or with the path off (blend_coherence = 0), the guide is kept.
+TEST(FitNormalsToPositions, BlendTakesTheFitWhereDeparturesHaveNoOneDirection) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
+  ASSERT_EQ(p.blend_coherence, 0.9);
+  ASSERT_EQ(p.blend_isotropic_high_deg, 3.5);
+  // The fit is radial to 0.5°, so ā lies within 2.2 ± 0.5°: open the path
+  // fully up to 4° (it ramps down from 5°).
+  p.blend_isotropic_high_deg = 5.0;
+  const double t = 2.2 * M_PI / 180.0;
+  Normals scattered(s.P.rows(), 3);
+  std::mt19937 random(1);  // fixed seed: the same directions on every run
+  std::uniform_real_distribution<double> turn(0.0, 2.0 * M_PI);
+  for (int i = 0; i < s.P.rows(); ++i) {
+    // A tangent direction drawn at random for each point.
+    const Eigen::RowVector3d n = s.N.row(i);
+    Eigen::RowVector3d e1 = n.cross(Eigen::RowVector3d::UnitX());
+    if (e1.norm() < 1e-3) e1 = n.cross(Eigen::RowVector3d::UnitY());
+    e1.normalize();
+    const Eigen::RowVector3d e2 = n.cross(e1);
+    const double a = turn(random);
+    scattered.row(i) = std::cos(t) * n + std::sin(t) * (std::cos(a) * e1 + std::sin(a) * e2);
+  }
+  const Normals pure = fit_normals_to_positions(s.P, scattered, R, params_at(0.03, 0.06)).normals;
+  const FitNormalsToPositionsResult taken = fit_normals_to_positions(s.P, scattered, R, p);
+  // Every point not blended is the fit itself, bit for bit.
+  EXPECT_LT(taken.blended, static_cast<std::size_t>(s.P.rows()) / 100);
+  int same = 0;
+  for (int i = 0; i < s.P.rows(); ++i) same += taken.normals.row(i) == pure.row(i);
+  EXPECT_EQ(static_cast<std::size_t>(same), static_cast<std::size_t>(s.P.rows()) - taken.blended);
+  FitNormalsToPositionsParams off = p;
+  off.blend_coherence = 0.0;
+  EXPECT_TRUE(fit_normals_to_positions(s.P, scattered, R, off).normals.isApprox(scattered, 1e-12));
+  // Tilted about one axis, the departures share a direction except near the
+  // axis's two poles, where it turns fast: the guide stays elsewhere.
+  const Normals aligned = tilted_in_tangent_plane(s.N, 2.2);
+  const Normals kept = fit_normals_to_positions(s.P, aligned, R, p).normals;
+  const Eigen::RowVector3d axis = Eigen::RowVector3d(0.3, 0.5, 0.8).normalized();
+  int guided = 0, far_from_poles = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    if (std::abs(s.N.row(i).dot(axis)) > 0.9) continue;
+    ++far_from_poles;
+    guided += test::angle_deg(kept.row(i), aligned.row(i)) < 1e-5;
+  }
+  EXPECT_EQ(guided, far_from_poles);
+  off.blend_coherence = 1.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, scattered, R, off), std::invalid_argument);
 }
 
 // The blend is local: a flat sheet guided by normals 0.5° off +z, whose
@@ -248,6 +307,7 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   EXPECT_EQ(fitted.report.normals_blended, 0u);
   // A window closed to almost nothing keeps the filtered normals instead.
   p.fit_normals = true;
+  p.output_normals.blend_coherence = 0.0;
   p.output_normals.blend_low_deg = 0.0;
   p.output_normals.blend_high_deg = 1e-3;
   const RemoveTextureResult narrow = remove_texture(s.P, Normals(), p);

@@ -16,35 +16,71 @@ namespace {
 // between a taken fit and n_i.
 constexpr float kNotFitted = -1.0f;  // zero or non-finite n_i, or no usable fit: n_i kept
 constexpr float kRefused = 180.0f;   // the fit turned past max_turn_deg: n_i kept
+// Widths of the isotropic path's ramps (header): κ from blend_coherence to
+// this much above it, ā from this many degrees below blend_isotropic_high_deg.
+constexpr double kCoherenceRamp = 0.05;
+constexpr double kIsotropicRampDeg = 1.0;
 
 // The blend (header): ā_i is the mean of turn[j] over p_i and its neighbors
 // within ρ that were fitted (a refused fit counts as 180°: it marks the fit
-// as untrustworthy there); the output is the fit and n mixed by
-// w_i = clamp((high - ā_i) / (high - low), 0, 1), then normalized. Points
-// whose own fit was not taken keep n_i and are not counted.
+// as untrustworthy there); κ_i is the share of the largest eigenvalue in the
+// trace of Σ (fit_j − n_j)(fit_j − n_j)ᵀ over the same points whose fit was
+// taken. The output is the fit and n mixed by
+// w_i = max(ramp(ā_i; low, high), ramp(κ_i; κ, κ + kCoherenceRamp) ·
+// ramp(ā_i; isotropic_high − 1°, isotropic_high)), then normalized; ramp(x;
+// a, b) is 1 at or below a and 0 at or above b. Points whose own fit was not
+// taken keep n_i and are not counted.
 void blend_with_filtered(const Positions& P, const Normals& normals, const Neighborhoods& R,
                          const FitNormalsToPositionsParams& params, const std::vector<float>& turn,
                          FitNormalsToPositionsResult& out) {
   const std::size_t n = R.size();
   const double radius_sq = params.radius * params.radius;
-  const double low = params.blend_low_deg, span = params.blend_high_deg - params.blend_low_deg;
+  const auto ramp = [](double x, double a, double b) {
+    return std::clamp((b - x) / (b - a), 0.0, 1.0);
+  };
+  const bool isotropic = params.blend_coherence > 0.0;
+  const double iso_high = params.blend_isotropic_high_deg;
+  const double iso_low = std::max(iso_high - kIsotropicRampDeg, params.blend_high_deg);
+  // The fits, read by the neighbors' κ while row i is blended.
+  const Normals fits = isotropic ? out.normals : Normals();
   std::size_t count = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
   for (std::size_t i = 0; i < n; ++i) {
     if (turn[i] == kNotFitted || turn[i] == kRefused) continue;
     double sum = turn[i];
     int members = 1;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    if (isotropic) {
+      const Eigen::Vector3d d = (fits.row(i) - normals.row(i)).transpose();
+      C.noalias() += d * d.transpose();
+    }
     for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
       const std::uint32_t j = *nb;
       if (j == i || turn[j] == kNotFitted || (P.row(j) - P.row(i)).squaredNorm() > radius_sq)
         continue;
       sum += turn[j];
       ++members;
+      if (isotropic && turn[j] != kRefused) {
+        const Eigen::Vector3d d = (fits.row(j) - normals.row(j)).transpose();
+        C.noalias() += d * d.transpose();
+      }
     }
-    const double w = std::clamp(1.0 - (sum / members - low) / span, 0.0, 1.0);
+    const double mean = sum / members;
+    double w = ramp(mean, params.blend_low_deg, params.blend_high_deg);
+    if (isotropic && w < 1.0 && mean < iso_high) {
+      const double trace = C.trace();
+      if (trace > 0.0) {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+        eig.computeDirect(C, Eigen::EigenvaluesOnly);
+        const double kappa = eig.eigenvalues()(2) / trace;
+        w = std::max(w,
+                     ramp(kappa, params.blend_coherence, params.blend_coherence + kCoherenceRamp) *
+                         ramp(mean, iso_low, iso_high));
+      }
+    }
     if (w == 1.0) continue;
     ++count;
-    // Only row i changes, and ā reads the turns of the main loop.
+    // Only row i changes, and ā and κ read the turns and fits of the main loop.
     const Eigen::RowVector3d mixed = w * out.normals.row(i) + (1.0 - w) * normals.row(i);
     const double norm = mixed.norm();
     out.normals.row(i) = norm > 0.0 ? Eigen::RowVector3d(mixed / norm) : normals.row(i);
@@ -76,6 +112,16 @@ void validate(const FitNormalsToPositionsParams& p) {
     throw std::invalid_argument(
         "the blend's lower angle (blend_low_deg, --blend-low) must be in [0, 180] degrees, got " +
         number_text(p.blend_low_deg));
+  if (!(p.blend_coherence >= 0.0 && p.blend_coherence < 1.0))
+    throw std::invalid_argument(
+        "the blend's coherence (blend_coherence, --blend-coherence) must be in [0, 1), 0 for "
+        "none, got " +
+        number_text(p.blend_coherence));
+  if (!(p.blend_isotropic_high_deg >= 0.0 && p.blend_isotropic_high_deg <= 180.0))
+    throw std::invalid_argument(
+        "the blend's isotropic angle (blend_isotropic_high_deg, --blend-isotropic-high) must be "
+        "in [0, 180] degrees, got " +
+        number_text(p.blend_isotropic_high_deg));
   if (p.blend_high_deg > 0.0 && !(p.blend_low_deg < p.blend_high_deg))
     throw std::invalid_argument("the blend's lower angle (blend_low_deg, --blend-low, " +
                                 number_text(p.blend_low_deg) +

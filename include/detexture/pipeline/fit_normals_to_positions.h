@@ -39,7 +39,24 @@
 //
 // The window 1-2° was measured against 1-3° and 0.5-2.5° (bench/RESULTS.md):
 // wider windows won more on the real shapes and lost up to 3.5% on the noisy
-// U grooves. Fit and blend take about 5% of a run (bench/speed's 150k
+// U grooves.
+//
+// The isotropic path (session 12). ā alone tells waves from facets poorly:
+// on the person, the duck, the blob, the fit beats n at any ā up to 3°,
+// because their positions hold facets and features smaller than σs, not
+// waves. What differs is the direction of the departures fit_j − n_j over
+// the point and its neighbors within ρ: across waves or grooves left in the
+// positions they lie along one direction (the share κ of the largest
+// eigenvalue of their scatter's trace: 0.93-0.95, median, on the suites'
+// waves and grooves), on facets and small features they spread over the
+// tangent plane (0.60-0.76 on the organic cases). So where κ is under
+// blend_coherence (0.9; ramping to 0 at 0.95) the fit is also taken up to
+// ā = blend_isotropic_high_deg (3.5°; ramping from 2.5°), the larger of the
+// two weights winning. Measured on both suites and on 30 unseen cases
+// (bench/quality_real_notes.md, session 12): normal error −11% on the noisy
+// ellipsoid and the blob, −5% on the person, the duck and the noisy cube;
+// +2.3% on the knot's waves, +1.8% on the pyramid's V grooves; lower on 29
+// of the 30 unseen cases. Fit and blend take about 5% of a run (bench/speed's 150k
 // sphere: 0.06 s of 1.29 s).
 //
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
@@ -75,6 +92,19 @@ struct FitNormalsToPositionsParams {
   /// Blend: from this mean angle on, the filtered normal is kept; linearly
   /// between the two. Degrees in [0, 180]; 0 takes every fit (no blend).
   double blend_high_deg = 2.0;
+  /// Blend, the isotropic path: where the fit's departures from the
+  /// filtered normals around a point have no one direction, the fit is also
+  /// taken up to a mean angle of blend_isotropic_high_deg (see above). κ, the
+  /// largest eigenvalue's share of Σ (fit − n)(fit − n)ᵀ over the point and
+  /// its neighbors within ρ, is 1 for departures along one direction (across
+  /// waves or grooves left in the positions) and 1/2 for departures spread
+  /// over the tangent plane (facets, small features). The path is open
+  /// below this κ and closed at 0.05 above it; in [0, 1), 0 turns it off.
+  double blend_coherence = 0.9;
+  /// Blend, the isotropic path: up to this mean angle (degrees, in [0,
+  /// 180]; ramping down over the degree below it) the fit is taken where κ
+  /// allows.
+  double blend_isotropic_high_deg = 3.5;
 };
 
 struct FitNormalsToPositionsResult {
