@@ -256,6 +256,9 @@ DETEXTURE_VARIANTS = [
     ("no-surface-split", ["--surface-split-angle", "180"],
      "R_i not split after texture detection: points past a tip or a rim stay in each other's "
      "R_i unless back to back (before session 8)"),
+    ("no-blend-coherence", ["--blend-coherence", "0"],
+     "output normals blended by the mean angle alone, without the isotropic path "
+     "(fit_normals_to_positions.h; the default before session 12's second change)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),
@@ -370,7 +373,7 @@ RUN_COST = {
     "detexture": 0.15, "no-subneighborhood": 0.15, "patch-shift": 0.15, "update-eq9": 0.6,
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
-    "estimated-normals": 0.15, "no-anchor-angle": 0.15,
+    "estimated-normals": 0.15, "no-anchor-angle": 0.15, "no-blend-coherence": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 
