@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -55,15 +56,22 @@ TEST(FitNormalsToPositions, SphereNormalsComeFromThePositions) {
 }
 
 // Tilt every row of N by `deg` degrees within its tangent plane, so that
-// each row turns by exactly that angle.
-Normals tilted_in_tangent_plane(const Normals& N, double deg) {
+// each row turns by exactly that angle: towards N x axis, or turned from it
+// by turn(i) radians about the normal when `turn` is given.
+Normals tilted_in_tangent_plane(const Normals& N, double deg,
+                                const std::function<double(int)>& turn = {}) {
   const double t = deg * M_PI / 180.0;
   const Eigen::RowVector3d axis = Eigen::RowVector3d(0.3, 0.5, 0.8).normalized();
   Normals out(N.rows(), 3);
   for (int i = 0; i < N.rows(); ++i) {
     Eigen::RowVector3d e = N.row(i).cross(axis);
     if (e.norm() < 1e-6) e = N.row(i).cross(Eigen::RowVector3d::UnitX());
-    out.row(i) = std::cos(t) * N.row(i) + std::sin(t) * e.normalized();
+    e.normalize();
+    if (turn) {
+      const double a = turn(i);
+      e = std::cos(a) * e + std::sin(a) * N.row(i).cross(e);
+    }
+    out.row(i) = std::cos(t) * N.row(i) + std::sin(t) * e;
   }
   return out;
 }
@@ -119,20 +127,10 @@ TEST(FitNormalsToPositions, BlendTakesTheFitWhereDeparturesHaveNoOneDirection) {
   // The fit is radial to 0.5°, so ā lies within 2.2 ± 0.5°: open the path
   // fully up to 4° (it ramps down from 5°).
   p.blend_isotropic_high_deg = 5.0;
-  const double t = 2.2 * M_PI / 180.0;
-  Normals scattered(s.P.rows(), 3);
   std::mt19937 random(1);  // fixed seed: the same directions on every run
   std::uniform_real_distribution<double> turn(0.0, 2.0 * M_PI);
-  for (int i = 0; i < s.P.rows(); ++i) {
-    // A tangent direction drawn at random for each point.
-    const Eigen::RowVector3d n = s.N.row(i);
-    Eigen::RowVector3d e1 = n.cross(Eigen::RowVector3d::UnitX());
-    if (e1.norm() < 1e-3) e1 = n.cross(Eigen::RowVector3d::UnitY());
-    e1.normalize();
-    const Eigen::RowVector3d e2 = n.cross(e1);
-    const double a = turn(random);
-    scattered.row(i) = std::cos(t) * n + std::sin(t) * (std::cos(a) * e1 + std::sin(a) * e2);
-  }
+  // A tangent direction drawn at random for each point.
+  const Normals scattered = tilted_in_tangent_plane(s.N, 2.2, [&](int) { return turn(random); });
   const Normals pure = fit_normals_to_positions(s.P, scattered, R, params_at(0.03, 0.06)).normals;
   const FitNormalsToPositionsResult taken = fit_normals_to_positions(s.P, scattered, R, p);
   // Every point not blended is the fit itself, bit for bit.
