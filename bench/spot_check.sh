@@ -5,7 +5,7 @@
 # run with the suites' rule (-r 1.5 R, --sigma-s 1.5 R), in auto mode (no
 # parameters) and with --ignore-normals, and compared with the input.
 #
-#   bench/spot_check.sh [BUILD_DIR] [WORK_DIR]
+#   bench/spot_check.sh [--peers] [BUILD_DIR] [WORK_DIR]
 #
 # BUILD_DIR (default build) holds detexture and bench/peers/prepare_mesh
 # (cmake -DDETEXTURE_BUILD_PEERS=ON). Prints one line per case and run:
@@ -18,7 +18,16 @@
 # where the result is worse than the input (RES: residual texture, NERR:
 # normal error) or its Dmax over 1.25 times the input's (DMAX), issue 9's
 # criteria; a count of each ends the run.
+#
+# --peers: then also run the five tuned peers on the 30 cases and rank
+# detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
+# cores the first time, then cached).
 set -euo pipefail
+peers=0
+if [ "${1:-}" = --peers ]; then
+  peers=1
+  shift
+fi
 build=$(realpath "${1:-build}")
 work=${2:-$build/bench-spot}
 mkdir -p "$work"
@@ -105,3 +114,6 @@ PY
 done
 echo "wider check, $(wc -l <"$flags") cases: worse residual $(grep -c RES "$flags"), worse normal" \
   "error $(grep -c NERR "$flags"), Dmax over 1.25 x the input's $(grep -c DMAX "$flags")"
+if [ "$peers" = 1 ]; then
+  "${DETEXTURE_PYTHON:-/usr/bin/python3}" "$(dirname "$0")/spot_check_peers.py" "$build" "$work/wide"
+fi
