@@ -66,6 +66,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
     build = os.path.abspath(args.build)
+    if not os.path.isdir(args.wide):
+        sys.exit(f"spot_check_peers: {args.wide} is not a folder: give spot_check.sh's WORK_DIR/wide")
     names = sorted(f[:-len(".rule.ply")] for f in os.listdir(args.wide) if f.endswith(".rule.ply"))
     if not names:
         sys.exit(f"spot_check_peers: no NAME.rule.ply in {args.wide}: run bench/spot_check.sh first")
