@@ -5,8 +5,10 @@
 
 WIDE_DIR is the `wide/` folder spot_check.sh fills: for each case NAME its
 input NAME.in.ply (synth's header comment holds the relief's size R), the
-ground truth NAME.gt.ply, synth's log NAME.synth.log (the base area) and
-detexture's result with the suites' rule, NAME.rule.ply. Each peer runs with
+ground truth NAME.gt.ply, synth's log NAME.synth.log (the base area),
+detexture's result with the suites' rule, NAME.rule.ply, and the comparisons
+of the input and of that result with the ground truth, NAME.in.json and
+NAME.rule.json (`detexture compare --json`). Each peer runs with
 the real suite's tuned parameters (bench/peer_params_real.json), scaled to
 the case's R and density exactly as bench/quality_real does
 (quality_suite.peer_args), one thread each, J runs at a time (2). Outputs
@@ -43,8 +45,8 @@ def case_of(wide, name):
     return qs.Case(name, "mesh", name.rsplit("-", 1)[1], "", size, 0.0)
 
 
-def run_peer(build, wide, name, peer, params):
-    case = case_of(wide, name)
+def run_peer(build, wide, case, peer, params):
+    name = case.name
     out = os.path.join(wide, f"{name}.{peer}.ply")
     program = qs.peer_program(build, peer)
     threads = None if peer == "meshlab-rimls" else 1
@@ -76,15 +78,16 @@ def main():
     if missing:
         sys.exit(f"spot_check_peers: peers not built or not tuned: {', '.join(missing)} "
                  "(cmake -DDETEXTURE_BUILD_PEERS=ON; MeshLab RIMLS needs meshlabserver)")
+    cases = {name: case_of(args.wide, name) for name in names}
     jobs = [(name, peer) for name in names for peer in PEERS]
     with ThreadPoolExecutor(args.jobs) as ex:
-        results = list(ex.map(lambda j: run_peer(build, args.wide, j[0], j[1], params[j[1]]["params"]),
-                              jobs))
+        results = list(ex.map(
+            lambda j: run_peer(build, args.wide, cases[j[0]], j[1], params[j[1]]["params"]), jobs))
     metrics = {(name, peer): m for (name, peer), m in zip(jobs, results)}
     for name in names:
-        for run in ("in", "rule"):
-            metrics[(name, run)] = qs.compare(build, os.path.join(args.wide, f"{name}.{run}.ply"),
-                                              os.path.join(args.wide, name + ".gt.ply"))
+        for run in ("in", "rule"):  # written by spot_check.sh with NAME.rule.ply
+            with open(os.path.join(args.wide, f"{name}.{run}.json")) as f:
+                metrics[(name, run)] = json.load(f)
     ranks = {key: [] for key, _ in METRICS}
     beaten = {p: [0, 0] for p in PEERS}
     both = []
