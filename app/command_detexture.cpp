@@ -225,6 +225,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
+  add("  \"waves_flagged\": %zu,\n  \"waves_released\": %zu,\n", r.waves_flagged, r.waves_released);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
       r.ransac_mean_iterations);
   add("  \"rolling_iterations\": %d,\n  \"update_iterations\": %d,\n", r.rolling_iterations,
@@ -542,6 +543,15 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--blend-isotropic-high", params.output_normals.blend_isotropic_high_deg,
                  "Blended output normals: the mean angle (degrees) up to which the fit is taken "
                  "where --blend-coherence allows")
+      ->capture_default_str();
+  app.add_option("--wave-share-low", params.wave_share_low,
+                 "Waves left in the positions: when the output-normal fit flags more than this "
+                 "share of the surface points as lying on waves or grooves the update left, "
+                 "the update runs again with their anchors lowered; 1 turns this off")
+      ->capture_default_str();
+  app.add_option("--wave-share-high", params.wave_share_high,
+                 "Waves left in the positions: from this share on, the flagged points are "
+                 "anchored like texture (the lowering ramps up from --wave-share-low)")
       ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")

@@ -315,7 +315,10 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--blend-coherence 1",
                            "--blend-coherence -0.1",
                            "--blend-isotropic-high 200",
-                           "--output-normals filtered --blend-coherence 0"}) {
+                           "--output-normals filtered --blend-coherence 0",
+                           "--wave-share-low 0.3 --wave-share-high 0.2",
+                           "--wave-share-low -0.1",
+                           "--wave-share-high 1.5"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

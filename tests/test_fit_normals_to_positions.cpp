@@ -8,6 +8,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "detexture/eval/synthesize_shape.h"
 #include "detexture/pipeline/remove_texture.h"
 #include "detexture/threads.h"
 #include "test_support.h"
@@ -266,6 +267,107 @@ TEST(FitNormalsToPositions, BadInputIsRefused) {
   RemoveTextureParams rp;
   rp.fit_sigma = Length{0.0, Length::Unit::Radius};
   EXPECT_THROW(validate(rp), std::invalid_argument);
+}
+// Waves left (the flags remove_texture's second pass reads): the same sheet
+// with longer waves (period 0.3, ρ = 0.05), so that a neighborhood sees a
+// third of a period. Across a crest or a trough the fit's departure from the
+// guide changes sign steadily along x: flagged. The flat half is not (ā
+// 0.5°, under waves_min_deg); nor is anything with waves_min_deg 0, nor a
+// guide tilted the same way everywhere on a flat sheet (the departures do
+// not vary with the position).
+TEST(FitNormalsToPositions, WavesLeftAreFlaggedAtTheirCrestsAndTroughs) {
+  auto s = test::bumpy_plane(121, 0.0, 1.0);
+  const double period = 0.3;
+  for (int i = 0; i < s.P.rows(); ++i)
+    if (s.P(i, 0) > 0.4) s.P(i, 2) = 0.01 * std::sin(2.0 * M_PI * (s.P(i, 0) - 0.4) / period);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.05, 0});
+  const Normals guide = tilted(s.N, 0.5);
+  FitNormalsToPositionsParams p = blended_at(0.015, 0.05);
+  ASSERT_EQ(p.waves_min_deg, 2.0);
+  const FitNormalsToPositionsResult fit = fit_normals_to_positions(s.P, guide, R, p);
+  ASSERT_EQ(fit.waves.size(), static_cast<std::size_t>(s.P.rows()));
+  int flat = 0, crests = 0, crest_points = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double x = s.P(i, 0), y = s.P(i, 1);
+    if (y < 0.1 || y > 0.9) continue;  // away from the sheet's open sides
+    if (x < 0.3) flat += fit.waves[static_cast<std::size_t>(i)];
+    // Within 0.03 of a crest (x = 0.475, 0.775) or a trough (0.625, 0.925).
+    const double phase = std::fmod(x - 0.4 + period, period / 2.0);
+    if (x > 0.45 && x < 0.94 && std::abs(phase - period / 4.0) < 0.03) {
+      ++crest_points;
+      crests += fit.waves[static_cast<std::size_t>(i)];
+    }
+  }
+  EXPECT_EQ(flat, 0);
+  ASSERT_GT(crest_points, 0);
+  EXPECT_GT(crests, crest_points * 3 / 4);
+  p.waves_min_deg = 0.0;
+  EXPECT_TRUE(fit_normals_to_positions(s.P, guide, R, p).waves.empty());
+  p.waves_min_deg = 2.0;
+  const auto flat_sheet = test::bumpy_plane(81, 0.0, 1.0);
+  const Neighborhoods Rf = radius_neighborhoods(flat_sheet.P, {0.05, 0});
+  const FitNormalsToPositionsResult tilted3 =
+      fit_normals_to_positions(flat_sheet.P, tilted(flat_sheet.N, 3.0), Rf, p);
+  int flagged = 0;
+  for (std::uint8_t f : tilted3.waves) flagged += f;
+  EXPECT_EQ(flagged, 0);
+  p.waves_linearity = 1.5;
+  EXPECT_THROW(fit_normals_to_positions(s.P, guide, R, p), std::invalid_argument);
+}
+
+// Through remove_texture, the second pass: a torus with dense waves (synth's,
+// 0.04 wide and 0.016 high, 30k points; r = 1.5 × 0.04) flags more than
+// wave_share_high of its surface points, and keeps less of its waves than
+// with the pass off (wave_share_low 1): the spread of the output's heights
+// over the base surface drops. The output normals are the first pass's. A
+// sphere with a few bumps flags under wave_share_low and is left as the
+// first pass made it.
+TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
+  SynthParams sp;
+  sp.shape = BaseShape::Torus;
+  sp.texture = TextureKind::Waves;
+  sp.layout = TextureLayout::Dense;
+  sp.size = 0.04;
+  sp.amplitude = 0.016;
+  sp.points = 30000;
+  sp.ground_truth_points = 1;
+  const SynthesizedShape torus = synthesize_shape(sp);
+  RemoveTextureParams p;
+  p.radius = Length{1.5 * sp.size, Length::Unit::Absolute};
+  p.sigma_s = p.radius;
+  p.threads = 2;
+  const RemoveTextureResult on = remove_texture(torus.positions, Normals(), p);
+  p.wave_share_low = 1.0;
+  const RemoveTextureResult off = remove_texture(torus.positions, Normals(), p);
+  EXPECT_EQ(off.report.waves_released, 0u);
+  EXPECT_EQ(on.report.waves_flagged, off.report.waves_flagged);
+  const std::size_t surface = on.positions.rows() - on.report.texture_points;
+  EXPECT_GT(on.report.waves_flagged, static_cast<std::size_t>(0.16 * surface));
+  EXPECT_EQ(on.report.waves_released, on.report.waves_flagged);
+  const auto spread = [&](const Positions& Q) {
+    Eigen::VectorXd h(Q.rows());
+    for (int i = 0; i < Q.rows(); ++i)
+      h(i) = (Q.row(i) - torus.base_positions.row(i)).dot(torus.base_normals.row(i));
+    return std::sqrt((h.array() - h.mean()).square().mean());
+  };
+  EXPECT_LT(spread(on.positions), 0.92 * spread(off.positions));
+  EXPECT_TRUE(on.normals == off.normals) << "the output normals are the first pass's";
+  // A sphere with bumps: few flags, no second pass, the same output.
+  auto s = test::fibonacci_sphere(20000, 1.0);
+  const auto centres = test::fibonacci_sphere(12, 1.0);
+  for (int i = 0; i < s.P.rows(); ++i)
+    for (int c = 0; c < centres.P.rows(); ++c) {
+      const double d = (s.N.row(i) - centres.N.row(c)).norm();
+      if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
+    }
+  p.wave_share_low = RemoveTextureParams().wave_share_low;
+  const RemoveTextureResult bumps = remove_texture(s.P, Normals(), p);
+  EXPECT_EQ(bumps.report.waves_released, 0u);
+  p.wave_share_low = 1.0;
+  EXPECT_TRUE(remove_texture(s.P, Normals(), p).positions == bumps.positions);
+  p.wave_share_low = 0.3;
+  p.wave_share_high = 0.2;
+  EXPECT_THROW(remove_texture(s.P, Normals(), p), std::invalid_argument);
 }
 
 // Through remove_texture: the output normals (filtered, the paper; fitted;

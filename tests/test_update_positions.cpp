@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "detexture/pipeline/detect_texture.h"
 #include "test_support.h"
 
@@ -119,6 +121,55 @@ TEST(UpdatePositions, AnchorsFallOffWithTheTiltOfTheInputNormal) {
   EXPECT_THROW(update_positions(noisy, up, R, surface, zero, params), std::invalid_argument);
   params.anchor_angle_deg = -1.0;
   EXPECT_THROW(update_positions(noisy, up, R, surface, zero, tilted, params),
+               std::invalid_argument);
+}
+
+// Per-point anchor factors (remove_texture's second pass over waves left in
+// the positions): the noisy plane, all surface, every anchor scaled by
+// e^-2 settles closer to the plane, as when the height fall-off weighs
+// each anchor by e^-2; factors of 1 change nothing; bad factors are refused.
+TEST(UpdatePositions, AnchorScaleWeighsEachPointsAnchor) {
+  auto [s, R, det, up, params] = bump_case(61);
+  Positions noisy = s.P;
+  for (Eigen::Index i = 0; i < noisy.rows(); ++i)
+    noisy(i, 2) = ((i + i / 61) % 2 == 0 ? 1.0 : -1.0) * 0.001;
+  const std::size_t n = static_cast<std::size_t>(noisy.rows());
+  const std::vector<float> zero(n, 0.0f);
+  const std::vector<std::uint8_t> surface(n, 0);
+  const auto rms = [](const Positions& Q) {
+    return std::sqrt(Q.col(2).squaredNorm() / static_cast<double>(Q.rows()));
+  };
+  const Positions held = update_positions(noisy, up, R, surface, zero, up, params).positions;
+  const std::vector<float> ones(n, 1.0f);
+  EXPECT_EQ(update_positions(noisy, up, R, surface, zero, up, ones, params).positions, held);
+  const std::vector<float> low(n, static_cast<float>(std::exp(-2.0)));
+  const Positions freed = update_positions(noisy, up, R, surface, zero, up, low, params).positions;
+  EXPECT_GT(rms(held), 0.3e-3);
+  EXPECT_LT(rms(freed), 0.5 * rms(held));
+  // Lowered on the left half only: the right half stays as held.
+  std::vector<float> half(n, 1.0f);
+  for (std::size_t i = 0; i < n; ++i)
+    if (noisy(static_cast<Eigen::Index>(i), 0) < 0.4) half[i] = 1e-4f;
+  const Positions part = update_positions(noisy, up, R, surface, zero, up, half, params).positions;
+  double left = 0.0, right = 0.0;
+  int nl = 0, nr = 0;
+  for (Eigen::Index i = 0; i < noisy.rows(); ++i) {
+    if (noisy(i, 0) < 0.3) {
+      left += std::abs(part(i, 2));
+      ++nl;
+    } else if (noisy(i, 0) > 0.6) {
+      right += std::abs(part(i, 2) - held(i, 2));
+      ++nr;
+    }
+  }
+  EXPECT_LT(left / nl, 0.2e-3);
+  EXPECT_LT(right / nr, 1e-6);
+  EXPECT_THROW(
+      update_positions(noisy, up, R, surface, zero, up, std::vector<float>(n - 1, 1.0f), params),
+      std::invalid_argument);
+  std::vector<float> bad = ones;
+  bad[7] = -1.0f;
+  EXPECT_THROW(update_positions(noisy, up, R, surface, zero, up, bad, params),
                std::invalid_argument);
 }
 

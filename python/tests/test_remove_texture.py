@@ -253,3 +253,27 @@ def test_progress_is_reported_and_an_exception_cancels(cube):
     assert calls.count("detect texture") == 1  # no further calls after the exception
     with pytest.raises(TypeError):
         detexture.remove_texture(P, progress=3)
+
+
+def test_wave_share_matches_the_command_line(work):
+    """The second pass over waves left in the positions: on by default, off at
+    wave_share_low = 1, the same from Python and from the command line."""
+    assert detexture.default_parameters()["wave_share_low"] == 0.08
+    assert detexture.default_parameters()["wave_share_high"] == 0.16
+    torus = work / "torus_waves.ply"
+    run_cli("synth", "--shape", "torus", "--texture", "waves", "--layout", "dense", "--size",
+            "0.04", "--amplitude", "0.016", "-n", "30000", "--ground-truth-points", "100",
+            "--seed", "1", "-o", torus)
+    out = work / "torus_waves_off.ply"
+    run_cli(torus, "-o", out, "-r", "0.06", "--wave-share-low", "1", "-q", "--force")
+    cloud = detexture.read_point_cloud(torus)
+    on = detexture.remove_texture(cloud, radius=0.06)
+    off = detexture.remove_texture(cloud, radius=0.06, wave_share_low=1.0)
+    assert on.report.waves_released > 0
+    assert off.report.waves_released == 0
+    assert on.report.waves_flagged == off.report.waves_flagged
+    assert np.array_equal(detexture.read_point_cloud(out).positions, off.positions)
+    assert not np.array_equal(on.positions, off.positions)
+    assert np.array_equal(on.normals, off.normals)
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)

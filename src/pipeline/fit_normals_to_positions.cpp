@@ -21,6 +21,44 @@ constexpr float kRefused = 180.0f;   // the fit turned past max_turn_deg: n_i ke
 constexpr double kCoherenceRamp = 0.05;
 constexpr double kIsotropicRampDeg = 1.0;
 
+// Waves left (header): κ_i of the departures' scatter C, then the squared
+// correlation, over p_i and its fitted neighbors within ρ, between the
+// position and the departure along the scatter's main direction e.
+std::uint8_t waves_left(const Positions& P, const Normals& normals, const Normals& fits,
+                        const Neighborhoods& R, const std::vector<float>& turn, double radius_sq,
+                        std::size_t i, const Eigen::Matrix3d& C,
+                        const FitNormalsToPositionsParams& params) {
+  const double trace = C.trace();
+  if (!(trace > 0.0)) return 0;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(C);
+  if (eig.eigenvalues()(2) / trace < params.waves_coherence) return 0;
+  const Eigen::RowVector3d e = eig.eigenvectors().col(2).transpose();
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0;
+  int m = 0;
+  const auto add = [&](std::size_t j) {
+    const double x = (P.row(j) - P.row(i)).dot(e);
+    const double y = (fits.row(j) - normals.row(j)).dot(e);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    syy += y * y;
+    ++m;
+  };
+  add(i);
+  for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+    const std::uint32_t j = *nb;
+    if (j == i || turn[j] == kNotFitted || turn[j] == kRefused ||
+        (P.row(j) - P.row(i)).squaredNorm() > radius_sq)
+      continue;
+    add(j);
+  }
+  const double vx = sxx - sx * sx / m, vy = syy - sy * sy / m, cxy = sxy - sx * sy / m;
+  if (!(vx > 0.0 && vy > 0.0)) return 0;
+  return cxy * cxy / (vx * vy) >= params.waves_linearity ? 1 : 0;
+}
+
 // The blend (header): ā_i is the mean of turn[j] over p_i and its neighbors
 // within ρ that were fitted (a refused fit counts as 180°: it marks the fit
 // as untrustworthy there); κ_i is the share of the largest eigenvalue in the
@@ -39,10 +77,12 @@ void blend_with_filtered(const Positions& P, const Normals& normals, const Neigh
     return std::clamp((b - x) / (b - a), 0.0, 1.0);
   };
   const bool isotropic = params.blend_coherence > 0.0;
+  const bool waves = params.waves_min_deg > 0.0;
   const double iso_high = params.blend_isotropic_high_deg;
   const double iso_low = std::max(iso_high - kIsotropicRampDeg, params.blend_high_deg);
   // The fits, read by the neighbors' κ while row i is blended.
-  const Normals fits = isotropic ? out.normals : Normals();
+  const Normals fits = isotropic || waves ? out.normals : Normals();
+  if (waves) out.waves.assign(n, 0);
   std::size_t count = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
   for (std::size_t i = 0; i < n; ++i) {
@@ -50,7 +90,7 @@ void blend_with_filtered(const Positions& P, const Normals& normals, const Neigh
     double sum = turn[i];
     int members = 1;
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    if (isotropic) {
+    if (isotropic || waves) {
       const Eigen::Vector3d d = (fits.row(i) - normals.row(i)).transpose();
       C.noalias() += d * d.transpose();
     }
@@ -60,12 +100,14 @@ void blend_with_filtered(const Positions& P, const Normals& normals, const Neigh
         continue;
       sum += turn[j];
       ++members;
-      if (isotropic && turn[j] != kRefused) {
+      if ((isotropic || waves) && turn[j] != kRefused) {
         const Eigen::Vector3d d = (fits.row(j) - normals.row(j)).transpose();
         C.noalias() += d * d.transpose();
       }
     }
     const double mean = sum / members;
+    if (waves && mean >= params.waves_min_deg)
+      out.waves[i] = waves_left(P, normals, fits, R, turn, radius_sq, i, C, params);
     double w = ramp(mean, params.blend_low_deg, params.blend_high_deg);
     if (isotropic && w < 1.0 && mean < iso_high) {
       const double trace = C.trace();
@@ -122,6 +164,21 @@ void validate(const FitNormalsToPositionsParams& p) {
         "the blend's isotropic angle (blend_isotropic_high_deg, --blend-isotropic-high) must be "
         "in [0, 180] degrees, got " +
         number_text(p.blend_isotropic_high_deg));
+  if (!(p.waves_min_deg >= 0.0 && p.waves_min_deg <= 180.0))
+    throw std::invalid_argument(
+        "the least mean angle of waves left (waves_min_deg) must be in [0, 180] degrees, 0 for "
+        "none, got " +
+        number_text(p.waves_min_deg));
+  if (!(p.waves_coherence >= 0.0 && p.waves_coherence <= 1.0))
+    throw std::invalid_argument(
+        "the least coherence of waves left (waves_coherence) must be in "
+        "[0, 1], got " +
+        number_text(p.waves_coherence));
+  if (!(p.waves_linearity >= 0.0 && p.waves_linearity <= 1.0))
+    throw std::invalid_argument(
+        "the least linearity of waves left (waves_linearity) must be in "
+        "[0, 1], got " +
+        number_text(p.waves_linearity));
   if (p.blend_high_deg > 0.0 && !(p.blend_low_deg < p.blend_high_deg))
     throw std::invalid_argument("the blend's lower angle (blend_low_deg, --blend-low, " +
                                 number_text(p.blend_low_deg) +

@@ -96,6 +96,17 @@ void validate(const RemoveTextureParams& p) {
   if (!(p.anchor_angle >= 0.0) || !std::isfinite(p.anchor_angle))
     throw std::invalid_argument("the anchor angle must be >= 0 degrees (0 for none), got " +
                                 number_text(p.anchor_angle));
+  if (!(p.wave_share_low >= 0.0 && p.wave_share_low <= 1.0) ||
+      !(p.wave_share_high >= 0.0 && p.wave_share_high <= 1.0))
+    throw std::invalid_argument(
+        "the shares of the waves' second pass (--wave-share-low, --wave-share-high) must be in "
+        "[0, 1], got " +
+        number_text(p.wave_share_low) + " and " + number_text(p.wave_share_high));
+  if (p.wave_share_low < 1.0 && !(p.wave_share_low < p.wave_share_high))
+    throw std::invalid_argument("the waves' second pass needs --wave-share-low (" +
+                                number_text(p.wave_share_low) + ") below --wave-share-high (" +
+                                number_text(p.wave_share_high) +
+                                "); --wave-share-low 1 turns it off");
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
   if (p.threads < 0)
@@ -420,35 +431,67 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     std::vector<float>().swap(omega);  // the update uses the hard labels
     filtered = std::move(r.normals);
   }
-  {
-    StageClock clock(observer, rep, "update positions");
-    UpdatePositionsParams up = params.update;
-    up.sigma_p = rep.sigma_p;
-    up.max_move = rep.max_move;
-    up.anchor_height = params.anchor_height * rep.lambda;
-    up.anchor_angle_deg = params.anchor_angle;
-    up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
-    // The global solve reads only the part of R_i within the solve radius:
-    // keep that part alone, so the solve's coefficients take the place of the
-    // rest instead of adding to the peak memory.
-    if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
-      shrink_neighborhoods(R, P, up.solve_radius);
-    UpdatePositionsResult u = update_positions(P, filtered, R, result.is_texture, surface_height,
-                                               result.input_normals, up, clock.progress());
+  UpdatePositionsParams up = params.update;
+  up.sigma_p = rep.sigma_p;
+  up.max_move = rep.max_move;
+  up.anchor_height = params.anchor_height * rep.lambda;
+  up.anchor_angle_deg = params.anchor_angle;
+  up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
+  const auto keep_update = [&rep, &result](UpdatePositionsResult&& u) {
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;
     rep.moves_limited = u.limited;
     result.positions = std::move(u.positions);
+  };
+  {
+    StageClock clock(observer, rep, "update positions");
+    // The global solve reads only the part of R_i within the solve radius:
+    // keep that part alone, so the solve's coefficients take the place of the
+    // rest instead of adding to the peak memory.
+    if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
+      shrink_neighborhoods(R, P, up.solve_radius);
+    keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
+                                 result.input_normals, up, clock.progress()));
   }
   if (params.fit_normals && T.rows() == 0) {
-    StageClock clock(observer, rep, "fit normals");
-    FitNormalsToPositionsParams fp = params.output_normals;
-    fp.sigma = params.fit_sigma.resolve(rep.diagonal, rep.radius);
-    fp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
-    FitNormalsToPositionsResult fit = fit_normals_to_positions(result.positions, filtered, R, fp);
-    rep.normals_not_fitted = fit.kept;
-    rep.normals_blended = fit.blended;
+    FitNormalsToPositionsResult fit;
+    {
+      StageClock clock(observer, rep, "fit normals");
+      FitNormalsToPositionsParams fp = params.output_normals;
+      fp.sigma = params.fit_sigma.resolve(rep.diagonal, rep.radius);
+      fp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
+      fit = fit_normals_to_positions(result.positions, filtered, R, fp);
+      rep.normals_not_fitted = fit.kept;
+      rep.normals_blended = fit.blended;
+    }
+    // Waves left in the positions (remove_texture.h, wave_share_low): run
+    // the update again with the flagged points' anchors lowered, from the
+    // same filtered normals; the output normals stay the first pass's.
+    if (up.mode == UpdateMode::Global && !fit.waves.empty()) {
+      std::size_t surface = 0, flagged = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        surface += !result.is_texture[i];
+        flagged += !result.is_texture[i] && fit.waves[i];
+      }
+      rep.waves_flagged = flagged;
+      const double share = surface ? static_cast<double>(flagged) / surface : 0.0;
+      const double t = params.wave_share_low < 1.0
+                           ? std::clamp((share - params.wave_share_low) /
+                                            (params.wave_share_high - params.wave_share_low),
+                                        0.0, 1.0)
+                           : 0.0;
+      if (t > 0.0 && up.anchor_surface > up.anchor_texture) {
+        StageClock clock(observer, rep, "update positions, waves");
+        const float factor = static_cast<float>(std::pow(up.anchor_texture / up.anchor_surface, t));
+        std::vector<float> scale(n, 1.0f);
+        for (std::size_t i = 0; i < n; ++i)
+          if (!result.is_texture[i] && fit.waves[i]) scale[i] = factor;
+        rep.waves_released = flagged;
+        keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
+                                     result.input_normals, scale, up, clock.progress()));
+      }
+    }
     filtered = std::move(fit.normals);
   }
   result.normals = std::move(filtered);

@@ -100,6 +100,7 @@ UpdatePositionsResult update_local(const Positions& P, const Normals& N, const N
 UpdatePositionsResult update_global(const Positions& P, const Normals& N, const Neighborhoods& R,
                                     const std::vector<std::uint8_t>& is_texture,
                                     const std::vector<float>& height, const Normals& input_normals,
+                                    const std::vector<float>& anchor_scale,
                                     const UpdatePositionsParams& params,
                                     const ProgressFn& progress) {
   const std::size_t n = R.size();
@@ -160,6 +161,7 @@ UpdatePositionsResult update_global(const Positions& P, const Normals& N, const 
       beta = params.anchor_texture +
              (params.anchor_surface - params.anchor_texture) * std::exp(-0.5 * e);
     }
+    if (!anchor_scale.empty()) beta *= anchor_scale[i];
     if (data <= 0.0) {
       ++isolated;
       data = 1.0;  // decoupled row: t_i = 0, the point stays
@@ -272,6 +274,14 @@ UpdatePositionsResult update_positions(
     const Positions& P, const Normals& filtered, const Neighborhoods& R,
     const std::vector<std::uint8_t>& is_texture, const std::vector<float>& height,
     const Normals& input_normals, const UpdatePositionsParams& params, const ProgressFn& progress) {
+  return update_positions(P, filtered, R, is_texture, height, input_normals, {}, params, progress);
+}
+
+UpdatePositionsResult update_positions(
+    const Positions& P, const Normals& filtered, const Neighborhoods& R,
+    const std::vector<std::uint8_t>& is_texture, const std::vector<float>& height,
+    const Normals& input_normals, const std::vector<float>& anchor_scale,
+    const UpdatePositionsParams& params, const ProgressFn& progress) {
   validate(params);
   if (static_cast<std::size_t>(P.rows()) != R.size() || filtered.rows() != P.rows())
     throw std::invalid_argument(
@@ -286,10 +296,20 @@ UpdatePositionsResult update_positions(
     throw std::invalid_argument(
         "update_positions: anchor_angle_deg needs the input normal of every point (" +
         std::to_string(P.rows()) + "), got " + std::to_string(input_normals.rows()));
+  if (!anchor_scale.empty() && anchor_scale.size() != static_cast<std::size_t>(P.rows()))
+    throw std::invalid_argument("update_positions: anchor_scale needs one factor per point (" +
+                                std::to_string(P.rows()) + "), got " +
+                                std::to_string(anchor_scale.size()));
+  for (float f : anchor_scale)
+    if (!(f >= 0.0f) || !std::isfinite(f))
+      throw std::invalid_argument(
+          "update_positions: every anchor_scale factor must be finite and >= 0, got " +
+          number_text(f));
   UpdatePositionsResult out;
   switch (params.mode) {
     case UpdateMode::Global:
-      out = update_global(P, filtered, R, is_texture, height, input_normals, params, progress);
+      out = update_global(P, filtered, R, is_texture, height, input_normals, anchor_scale, params,
+                          progress);
       break;
     case UpdateMode::Isotropic:
       out = update_local(P, filtered, R, params, true, progress);

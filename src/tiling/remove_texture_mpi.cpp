@@ -284,11 +284,12 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
   MPI_Gatherv(log.data(), length, MPI_DOUBLE, all.data(), lengths.data(), offsets.data(),
               MPI_DOUBLE, 0, MPI_COMM_WORLD);
   // The counts each rank's tiles added up, summed over the ranks.
-  unsigned long long counts[5] = {rep.report.texture_points, rep.report.opposite_neighbors,
+  unsigned long long counts[7] = {rep.report.texture_points,          rep.report.opposite_neighbors,
                                   rep.report.surface_split_neighbors, rep.report.normals_not_fitted,
-                                  rep.report.normals_blended};
-  unsigned long long counts_all[5] = {0, 0, 0, 0, 0};
-  MPI_Reduce(counts, counts_all, 5, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+                                  rep.report.normals_blended,         rep.report.waves_flagged,
+                                  rep.report.waves_released};
+  unsigned long long counts_all[7] = {0, 0, 0, 0, 0, 0, 0};
+  MPI_Reduce(counts, counts_all, 7, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
 
   if (rank == 0) {
     try {
@@ -297,6 +298,8 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.surface_split_neighbors = static_cast<std::size_t>(counts_all[2]);
       rep.report.normals_not_fitted = static_cast<std::size_t>(counts_all[3]);
       rep.report.normals_blended = static_cast<std::size_t>(counts_all[4]);
+      rep.report.waves_flagged = static_cast<std::size_t>(counts_all[5]);
+      rep.report.waves_released = static_cast<std::size_t>(counts_all[6]);
       std::vector<TileLogEntry> entries;
       for (std::size_t k = 0; k + kLogFields <= all.size(); k += kLogFields)
         entries.push_back(unpack(all.data() + k));

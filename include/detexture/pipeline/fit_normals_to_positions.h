@@ -59,6 +59,25 @@
 // of the 30 unseen cases. Fit and blend take about 5% of a run (bench/speed's 150k
 // sphere: 0.06 s of 1.29 s).
 //
+// Waves left in the positions (session 14). The blend keeps n where waves
+// or grooves stayed in the positions, but the positions keep them. The
+// same statistics flag those points for remove_texture, which then runs
+// the position update again with their anchors lowered (remove_texture.h,
+// wave_share_low): a point is flagged when ā_i >= waves_min_deg, κ_i >=
+// waves_coherence, and the departures vary linearly across the
+// neighborhood: with e the direction of the largest eigenvalue, the squared
+// correlation between (p'_j − p'_i)·e and (fit_j − n_j)·e over the same
+// points is at least waves_linearity. Within ρ a neighborhood sees less
+// than a period of the waves left, and across a crest or a trough the
+// departure changes sign steadily (the squared correlation's median is
+// 0.73-0.80 over the points of the suites' waves and grooves that pass the
+// ā and κ tests); over the facets and small features of organic shapes it
+// scatters (0.29-0.33 on the person, the spider and the duck). Rounded
+// edges that the filtered normals smooth pass all three tests too, which
+// is why remove_texture gates its second pass on the share of flagged
+// points (remove_texture.h, wave_share_low). Measured on both suites and
+// 30 unseen cases (bench/quality_real_notes.md, session 14).
+//
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
 // kMinSpreadRatio), or when it turns more than max_turn_deg from n_i (a part
@@ -66,6 +85,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "detexture/geometry/radius_neighborhoods.h"
 #include "detexture/types.h"
@@ -105,6 +126,15 @@ struct FitNormalsToPositionsParams {
   /// 180]; ramping down over the degree below it) the fit is taken where κ
   /// allows.
   double blend_isotropic_high_deg = 3.5;
+  /// Waves left (see above): the least mean angle ā, in degrees, of a
+  /// flagged point; in [0, 180], 0 flags nothing. Needs the blend
+  /// (blend_high_deg > 0).
+  double waves_min_deg = 2.0;
+  /// Waves left: the least κ of a flagged point, in [0, 1].
+  double waves_coherence = 0.9;
+  /// Waves left: the least squared correlation of the departures with the
+  /// position across the neighborhood, in [0, 1].
+  double waves_linearity = 0.7;
 };
 
 struct FitNormalsToPositionsResult {
@@ -113,6 +143,9 @@ struct FitNormalsToPositionsResult {
   /// Points whose output is the filtered normal, or partly, because the fit
   /// disagrees with it around them (the blend; 0 without it).
   std::size_t blended = 0;
+  /// #P: 1 where waves or grooves look left in the positions (see above);
+  /// empty when waves_min_deg or blend_high_deg is 0.
+  std::vector<std::uint8_t> waves;
 };
 
 void validate(const FitNormalsToPositionsParams& params);

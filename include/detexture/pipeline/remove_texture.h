@@ -180,6 +180,28 @@ struct RemoveTextureParams {
   FitNormalsToPositionsParams output_normals;
   /// σ of the output-normal fit (fit_normals_to_positions.h).
   Length fit_sigma{0.3, Length::Unit::Radius};
+  /// Waves left, second pass (clouds, with fit_normals and the blend).
+  /// The output-normal fit flags the surface points where waves or grooves
+  /// stayed in the positions (fit_normals_to_positions.h, waves): their
+  /// crests and troughs were labelled underlying surface by Eq. 2's planes
+  /// and held by their anchors. When the flagged points are more than
+  /// wave_share_low of the surface points, the global update runs again with
+  /// the anchors of the flagged points scaled by (anchor_texture /
+  /// anchor_surface)^t, t ramping from 0 at wave_share_low to 1 at
+  /// wave_share_high, so that they follow the filtered normals like texture.
+  /// The output normals stay those of the first pass. The share is a gate on
+  /// the whole cloud (each tile's, in tiled runs): one flagged point alone
+  /// cannot tell a wave's flank from a rounded edge the filtered normals
+  /// smooth, where the same statistics hold, but waves cover the surface and
+  /// edges are lines. Measured (bench/quality_real_notes.md, session 14): the
+  /// suites' waves and grooves flag 11-46% of their surface points, the 12
+  /// other suite cases and 30 unseen ones at most 8.6%; residual texture
+  /// -30% on the torus with waves, -19% on the noisy U grooves, -8% on the
+  /// knot and the V grooves; +1.8% on the one unseen case (8.6%) the ramp
+  /// reaches, nothing else changed. Shares in [0, 1], low < high; low >= 1
+  /// turns the second pass off.
+  double wave_share_low = 0.08;
+  double wave_share_high = 0.16;
 
   /// Worker threads, >= 0; 0 = all cores (OpenMP's default, or OMP_NUM_THREADS).
   /// Applied for the duration of the call only (ScopedThreads in threads.h);
@@ -268,6 +290,11 @@ struct RemoveTextureReport {
   /// Tiled runs sum this and normals_not_fitted over the tiles' runs, halo
   /// points included.
   std::size_t normals_blended = 0;
+  /// Surface points flagged as lying where waves or grooves stayed in the
+  /// positions (fit_normals_to_positions.h, waves), and those whose anchors
+  /// the second pass lowered (wave_share_low; 0 when it did not run).
+  std::size_t waves_flagged = 0;
+  std::size_t waves_released = 0;
   /// Points at exactly the position of an earlier point: the method ran on
   /// the distinct positions and each copy got the result of the first.
   std::size_t duplicates_merged = 0;

@@ -123,6 +123,16 @@ UpdatePositionsResult update_positions(const Positions& P, const Normals& filter
                                        const UpdatePositionsParams& params,
                                        const ProgressFn& progress = {});
 
+/// The same with a factor on every point's anchor weight μ_i (#P, each
+/// finite and >= 0; empty = 1 everywhere; Global only). remove_texture
+/// lowers the anchors of points where waves or grooves stayed in the
+/// positions of a first pass (remove_texture.h, wave_share_low).
+UpdatePositionsResult update_positions(
+    const Positions& P, const Normals& filtered, const Neighborhoods& R,
+    const std::vector<std::uint8_t>& is_texture, const std::vector<float>& height,
+    const Normals& input_normals, const std::vector<float>& anchor_scale,
+    const UpdatePositionsParams& params, const ProgressFn& progress = {});
+
 void validate(const UpdatePositionsParams& params);
 
 }  // namespace detexture
