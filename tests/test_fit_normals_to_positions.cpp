@@ -342,7 +342,7 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   EXPECT_EQ(off.report.waves_released, 0u);
   EXPECT_EQ(on.report.waves_flagged, off.report.waves_flagged);
   const std::size_t surface = on.positions.rows() - on.report.texture_points;
-  EXPECT_GT(on.report.waves_flagged, static_cast<std::size_t>(0.16 * surface));
+  EXPECT_GT(on.report.waves_flagged, static_cast<std::size_t>(p.wave_share_high * surface));
   EXPECT_EQ(on.report.waves_released, on.report.waves_flagged);
   const auto spread = [&](const Positions& Q) {
     Eigen::VectorXd h(Q.rows());

@@ -258,8 +258,8 @@ def test_progress_is_reported_and_an_exception_cancels(cube):
 def test_wave_share_matches_the_command_line(work):
     """The second pass over waves left in the positions: on by default, off at
     wave_share_low = 1, the same from Python and from the command line."""
-    assert detexture.default_parameters()["wave_share_low"] == 0.08
-    assert detexture.default_parameters()["wave_share_high"] == 0.16
+    assert detexture.default_parameters()["wave_share_low"] == 0.1
+    assert detexture.default_parameters()["wave_share_high"] == 0.2
     torus = work / "torus_waves.ply"
     run_cli("synth", "--shape", "torus", "--texture", "waves", "--layout", "dense", "--size",
             "0.04", "--amplitude", "0.016", "-n", "30000", "--ground-truth-points", "100",
