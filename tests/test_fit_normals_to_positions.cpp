@@ -268,6 +268,21 @@ TEST(FitNormalsToPositions, BadInputIsRefused) {
   rp.fit_sigma = Length{0.0, Length::Unit::Radius};
   EXPECT_THROW(validate(rp), std::invalid_argument);
 }
+
+// A unit sphere of 20000 points (in a test::BumpyPlane: its P and N) with 12
+// bumps: the points near 12 centres pushed outwards by a smooth dome 0.03
+// high.
+test::BumpyPlane sphere_with_bumps() {
+  auto s = test::fibonacci_sphere(20000, 1.0);
+  const auto centres = test::fibonacci_sphere(12, 1.0);
+  for (int i = 0; i < s.P.rows(); ++i)
+    for (int c = 0; c < centres.P.rows(); ++c) {
+      const double d = (s.N.row(i) - centres.N.row(c)).norm();
+      if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
+    }
+  return s;
+}
+
 // Waves left (the flags remove_texture's second pass reads): the same sheet
 // with longer waves (period 0.3, ρ = 0.05), so that a neighborhood sees a
 // third of a period. Across a crest or a trough the fit's departure from the
@@ -353,13 +368,7 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   EXPECT_LT(spread(on.positions), 0.92 * spread(off.positions));
   EXPECT_TRUE(on.normals == off.normals) << "the output normals are the first pass's";
   // A sphere with bumps: few flags, no second pass, the same output.
-  auto s = test::fibonacci_sphere(20000, 1.0);
-  const auto centres = test::fibonacci_sphere(12, 1.0);
-  for (int i = 0; i < s.P.rows(); ++i)
-    for (int c = 0; c < centres.P.rows(); ++c) {
-      const double d = (s.N.row(i) - centres.N.row(c)).norm();
-      if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
-    }
+  const auto s = sphere_with_bumps();
   p.wave_share_low = RemoveTextureParams().wave_share_low;
   const RemoveTextureResult bumps = remove_texture(s.P, Normals(), p);
   EXPECT_EQ(bumps.report.waves_released, 0u);
@@ -375,14 +384,7 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
 // count; on a sphere with bumps the fitted and the blended normals are closer
 // to the true (radial) ones than the filtered normals are.
 TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
-  auto s = test::fibonacci_sphere(20000, 1.0);
-  // Bumps: push points near 12 centres outwards by a smooth 0.03 dome.
-  const auto centres = test::fibonacci_sphere(12, 1.0);
-  for (int i = 0; i < s.P.rows(); ++i)
-    for (int c = 0; c < centres.P.rows(); ++c) {
-      const double d = (s.N.row(i) - centres.N.row(c)).norm();
-      if (d < 0.15) s.P.row(i) += 0.03 * std::exp(-d * d / (2 * 0.05 * 0.05)) * s.N.row(i);
-    }
+  const auto s = sphere_with_bumps();
   RemoveTextureParams p;
   ASSERT_TRUE(p.fit_normals) << "blended output normals are the default";
   p.radius = Length{0.15, Length::Unit::Absolute};
