@@ -553,6 +553,23 @@ int run_detexture(int argc, char** argv) {
                  "Waves left in the positions: from this share on, the flagged points are "
                  "anchored like texture (the lowering ramps up from --wave-share-low)")
       ->capture_default_str();
+  app.add_option("--blend-share-low", params.blend_share_low,
+                 "Blended output normals: when the output-normal fit flags less than this "
+                 "share of the surface points as lying on waves or grooves the update left, "
+                 "the blend takes the open window (--blend-open-low, --blend-open-high)")
+      ->capture_default_str();
+  app.add_option("--blend-share-high", params.blend_share_high,
+                 "Blended output normals: from this share on, the blend's own window (mixed "
+                 "with the open one between the two shares); 0 keeps it on every cloud")
+      ->capture_default_str();
+  app.add_option("--blend-open-low", params.output_normals.blend_open_low_deg,
+                 "Blended output normals, the open window (clouds without waves left): the fit "
+                 "is taken up to this mean angle (degrees) from the filtered normals")
+      ->capture_default_str();
+  app.add_option("--blend-open-high", params.output_normals.blend_open_high_deg,
+                 "Blended output normals, the open window: from this mean angle on, the "
+                 "filtered normal is kept; linearly between the two")
+      ->capture_default_str();
   app.add_option("--anchor-texture", params.update.anchor_texture,
                  "Global update: how strongly texture points keep their place")
       ->capture_default_str();

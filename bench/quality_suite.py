@@ -262,6 +262,9 @@ DETEXTURE_VARIANTS = [
     ("no-wave-release", ["--wave-share-low", "1"],
      "no second update where waves stayed in the positions: their crests and troughs, "
      "labelled surface, keep their anchors (remove_texture.h; the default before session 14)"),
+    ("blend-everywhere", ["--blend-share-high", "0"],
+     "output normals blended with the narrow window (1-2°) on every cloud, also where no "
+     "waves are left (fit_normals_to_positions.h; the default before session 15)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),
@@ -377,7 +380,7 @@ RUN_COST = {
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
     "estimated-normals": 0.15, "no-anchor-angle": 0.15, "no-blend-coherence": 0.15,
-    "no-wave-release": 0.15,
+    "no-wave-release": 0.15, "blend-everywhere": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

@@ -193,8 +193,10 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
         0)
         << mode << ": " << stderr_;
   // A blend window closed to almost nothing keeps the filtered normals
-  // nearly everywhere.
-  const std::string narrow = " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0";
+  // nearly everywhere, on every cloud (--blend-share-high 0: the gate would
+  // open the window on this one, which has no waves).
+  const std::string narrow =
+      " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0 --blend-share-high 0";
   ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
   const PointCloud d = read_point_cloud(path("default.ply")),
                    b = read_point_cloud(path("blended.ply")),
@@ -318,7 +320,11 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--output-normals filtered --blend-coherence 0",
                            "--wave-share-low 0.3 --wave-share-high 0.2",
                            "--wave-share-low -0.1",
-                           "--wave-share-high 1.5"}) {
+                           "--wave-share-high 1.5",
+                           "--blend-share-low 0.3 --blend-share-high 0.2",
+                           "--blend-share-high 1.5",
+                           "--blend-open-low 10 --blend-open-high 5",
+                           "--blend-open-high 200"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

@@ -113,6 +113,51 @@ TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
   }
 }
 
+// The open window (5-10°), returned beside the blend: on the sphere with
+// guides tilted by 3° (past blend_high, under blend_open_low) the blend keeps
+// the guide and the open output is the fit; tilted by 7.5° (halfway through
+// the window) it is between the two; tilted by 12° it is the guide too.
+TEST(FitNormalsToPositions, OpenWindowTakesTheFitFurther) {
+  const auto s = test::fibonacci_sphere(20000, 1.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
+  ASSERT_EQ(p.blend_open_low_deg, 5.0);
+  ASSERT_EQ(p.blend_open_high_deg, 10.0);
+  p.blend_coherence = 0.0;
+  const auto rows = static_cast<std::size_t>(s.P.rows());
+  for (const double tilt : {3.0, 7.5, 12.0}) {
+    SCOPED_TRACE("tilt " + std::to_string(tilt));
+    const Normals guide = tilted_in_tangent_plane(s.N, tilt);
+    const FitNormalsToPositionsResult fit = fit_normals_to_positions(s.P, guide, R, p);
+    const FitNormalsToPositionsResult pure =
+        fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+    EXPECT_TRUE(fit.normals.isApprox(guide, 1e-12));
+    EXPECT_EQ(fit.blended, rows);
+    ASSERT_EQ(fit.open.rows(), s.P.rows());
+    if (tilt == 3.0) {
+      EXPECT_EQ(fit.open_blended, 0u);
+      EXPECT_TRUE(fit.open == pure.normals);
+    } else if (tilt == 12.0) {
+      EXPECT_EQ(fit.open_blended, rows);
+      EXPECT_TRUE(fit.open.isApprox(guide, 1e-12));
+    } else {
+      EXPECT_EQ(fit.open_blended, rows);
+      for (int i = 0; i < s.P.rows(); ++i) {
+        EXPECT_GT(test::angle_deg(fit.open.row(i), pure.normals.row(i)), 2.0) << i;
+        EXPECT_GT(test::angle_deg(fit.open.row(i), guide.row(i)), 2.0) << i;
+      }
+    }
+  }
+  EXPECT_EQ(fit_normals_to_positions(s.P, s.N, R, params_at(0.03, 0.06)).open.rows(), 0)
+      << "no open output without the blend";
+  p.blend_open_low_deg = 10.0;
+  p.blend_open_high_deg = 5.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  p.blend_open_low_deg = 5.0;
+  p.blend_open_high_deg = 200.0;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+}
+
 // The isotropic path: guides tilted by 2.2° (past blend_high = 2°, under
 // blend_isotropic_high - 1° = 2.5°) about a direction that changes from
 // point to point, as where the positions hold facets or small features the
@@ -379,6 +424,70 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   EXPECT_THROW(remove_texture(s.P, Normals(), p), std::invalid_argument);
 }
 
+// Through remove_texture, the blend's gate: synth's cube with bumps (20k
+// points, default parameters) flags almost no waves (under blend_share_low),
+// so its output normals are the open window's, the same as the blend with
+// its window set to 5-10° on every cloud (blend_share_high 0), and blend
+// fewer points than the blend's own window does (its edges, rounded by the
+// filtered normals). The torus with waves flags more than blend_share_high
+// and keeps the blend's own window. Bad shares are refused.
+TEST(FitNormalsToPositions, RemoveTextureOpensTheBlendWhereNoWavesAreLeft) {
+  SynthParams cp;
+  cp.points = 20000;
+  cp.ground_truth_points = 1;
+  const SynthesizedShape cube = synthesize_shape(cp);
+  RemoveTextureParams p;
+  ASSERT_EQ(p.blend_share_low, 0.05);
+  ASSERT_EQ(p.blend_share_high, 0.1);
+  p.threads = 2;
+  const RemoveTextureResult gated = remove_texture(cube.positions, cube.normals, p);
+  EXPECT_LT(gated.report.waves_flagged,
+            static_cast<std::size_t>(p.blend_share_low *
+                                     (gated.positions.rows() - gated.report.texture_points)));
+  p.blend_share_high = 0.0;
+  const RemoveTextureResult always = remove_texture(cube.positions, cube.normals, p);
+  EXPECT_TRUE(gated.positions == always.positions);
+  EXPECT_FALSE(gated.normals == always.normals);
+  EXPECT_LT(gated.report.normals_blended, always.report.normals_blended);
+  p.output_normals.blend_low_deg = p.output_normals.blend_open_low_deg;
+  p.output_normals.blend_high_deg = p.output_normals.blend_open_high_deg;
+  p.output_normals.blend_coherence = 0.0;
+  const RemoveTextureResult wide = remove_texture(cube.positions, cube.normals, p);
+  EXPECT_TRUE(gated.normals == wide.normals);
+  EXPECT_EQ(gated.report.normals_blended, wide.report.normals_blended);
+
+  SynthParams sp;
+  sp.shape = BaseShape::Torus;
+  sp.texture = TextureKind::Waves;
+  sp.layout = TextureLayout::Dense;
+  sp.size = 0.04;
+  sp.amplitude = 0.016;
+  sp.points = 30000;
+  sp.ground_truth_points = 1;
+  const SynthesizedShape torus = synthesize_shape(sp);
+  RemoveTextureParams q;
+  q.radius = Length{1.5 * sp.size, Length::Unit::Absolute};
+  q.sigma_s = q.radius;
+  q.threads = 2;
+  const RemoveTextureResult waves = remove_texture(torus.positions, Normals(), q);
+  EXPECT_GT(waves.report.waves_flagged,
+            static_cast<std::size_t>(q.blend_share_high *
+                                     (waves.positions.rows() - waves.report.texture_points)));
+  q.blend_share_high = 0.0;
+  EXPECT_TRUE(remove_texture(torus.positions, Normals(), q).normals == waves.normals);
+
+  p = RemoveTextureParams();
+  p.blend_share_low = 0.2;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.blend_share_low = -0.1;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.blend_share_low = 0.5;
+  p.blend_share_high = 0.0;
+  EXPECT_NO_THROW(validate(p)) << "blend_share_high 0 blends on every cloud";
+  p.blend_share_high = 1.5;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+}
+
 // Through remove_texture: the output normals (filtered, the paper; fitted;
 // blended, the default) change the normals only, and the same on any thread
 // count; on a sphere with bumps the fitted and the blended normals are closer
@@ -407,8 +516,10 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   EXPECT_EQ(filtered.report.normals_not_fitted, 0u);
   EXPECT_EQ(filtered.report.normals_blended, 0u);
   EXPECT_EQ(fitted.report.normals_blended, 0u);
-  // A window closed to almost nothing keeps the filtered normals instead.
+  // A window closed to almost nothing keeps the filtered normals instead,
+  // on every cloud (the gate would open it here: no waves).
   p.fit_normals = true;
+  p.blend_share_high = 0.0;
   p.output_normals.blend_coherence = 0.0;
   p.output_normals.blend_low_deg = 0.0;
   p.output_normals.blend_high_deg = 1e-3;

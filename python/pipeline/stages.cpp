@@ -222,8 +222,8 @@ void bind_stages(py::module_& m) {
       py::arg("is_texture") = py::none(), update_doc.c_str());
 
   static const std::string fit_doc = stage_doc<FitNormalsToPositionsParams>(
-      m, "fit_normals_to_positions", "points, normals, neighborhoods", "normals, kept, blended",
-      "FitNormalsToPositionsParams");
+      m, "fit_normals_to_positions", "points, normals, neighborhoods",
+      "normals, kept, blended, open, open_blended, waves", "FitNormalsToPositionsParams");
   m.def(
       "fit_normals_to_positions",
       [](const py::object& points, const py::object& normals, const Neighborhoods& R,
@@ -241,6 +241,15 @@ void bind_stages(py::module_& m) {
         d["normals"] = to_array(std::move(f.normals));
         d["kept"] = f.kept;
         d["blended"] = f.blended;
+        // The open window's output and the waves-left flags (None without
+        // the blend, or with waves_min_deg 0).
+        d["open"] = f.open.rows() ? py::object(to_array(std::move(f.open))) : py::none();
+        d["open_blended"] = f.open_blended;
+        d["waves"] =
+            f.waves.empty()
+                ? py::object(py::none())
+                : py::object(py::array_t<bool>(static_cast<py::ssize_t>(f.waves.size()),
+                                               reinterpret_cast<const bool*>(f.waves.data())));
         return d;
       },
       py::arg("points"), py::arg("normals"), py::arg("neighborhoods"), fit_doc.c_str());

@@ -277,3 +277,26 @@ def test_wave_share_matches_the_command_line(work):
     assert np.array_equal(on.normals, off.normals)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)
+
+
+def test_blend_share_matches_the_command_line(cube, work):
+    """The blend's gate: on a cloud without waves left the output normals
+    take the open window; blend_share_high = 0 keeps the blend's own window,
+    the same from Python and from the command line."""
+    d = detexture.default_parameters()
+    assert (d["blend_share_low"], d["blend_share_high"]) == (0.05, 0.1)
+    assert d["output_normals_blend_open_low_deg"] == 5.0
+    assert d["output_normals_blend_open_high_deg"] == 10.0
+    cloud = detexture.read_point_cloud(cube)
+    out = work / "always.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--blend-share-high", "0", "-q", "--force")
+    gated = detexture.remove_texture(cloud, radius=0.09)
+    always = detexture.remove_texture(cloud, radius=0.09, blend_share_high=0.0)
+    assert np.array_equal(detexture.read_point_cloud(out).normals, always.normals)
+    assert np.array_equal(gated.positions, always.positions)
+    assert not np.array_equal(gated.normals, always.normals)
+    assert gated.report.normals_blended < always.report.normals_blended
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.09, blend_share_low=0.3, blend_share_high=0.2)
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.09, output_normals_blend_open_low_deg=20.0)

@@ -108,5 +108,17 @@ def test_fit_normals_to_positions_reads_a_sphere():
     far = np.abs(P[:, 0]) < 0.5
     assert b["blended"] >= far.sum()
     assert np.allclose(b["normals"][far], guide[far])
+    # The open window (5-10°): the fit where it turns under 5° (near the x
+    # axis), closer to the guide than the fit where it turns more; the
+    # output without the blend has none.
+    assert b["open"].shape == P.shape and 0 < b["open_blended"] < len(P)
+    near = np.abs(P[:, 0]) > 0.99
+    assert near.any() and np.allclose(b["open"][near], f["normals"][near])
+
+    def angle(a, c):
+        return np.degrees(np.arccos(np.clip((a * c).sum(1), -1, 1)))
+    assert (angle(b["open"][far], guide[far]) < angle(f["normals"][far], guide[far])).all()
+    assert b["waves"].dtype == bool and b["waves"].shape == (len(P),)
+    assert f["open"] is None and f["waves"] is None
     with pytest.raises(ValueError, match="spatial scale"):
         detexture.fit_normals_to_positions(P, guide, R, sigma=0.0, radius=0.1)

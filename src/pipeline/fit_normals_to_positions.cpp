@@ -81,10 +81,11 @@ void blend_with_filtered(const Positions& P, const Normals& normals, const Neigh
   const double iso_high = params.blend_isotropic_high_deg;
   const double iso_low = std::max(iso_high - kIsotropicRampDeg, params.blend_high_deg);
   // The fits, read by the neighbors' κ while row i is blended.
-  const Normals fits = isotropic || waves ? out.normals : Normals();
+  const Normals fits = out.normals;
+  out.open = out.normals;
   if (waves) out.waves.assign(n, 0);
-  std::size_t count = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
+  std::size_t count = 0, open_count = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : count, open_count)
   for (std::size_t i = 0; i < n; ++i) {
     if (turn[i] == kNotFitted || turn[i] == kRefused) continue;
     double sum = turn[i];
@@ -120,14 +121,23 @@ void blend_with_filtered(const Positions& P, const Normals& normals, const Neigh
                          ramp(mean, iso_low, iso_high));
       }
     }
+    // Only rows i change, and ā and κ read the turns and fits of the main loop.
+    const auto mix = [&](Normals& out_normals, double weight) {
+      const Eigen::RowVector3d mixed = weight * fits.row(i) + (1.0 - weight) * normals.row(i);
+      const double norm = mixed.norm();
+      out_normals.row(i) = norm > 0.0 ? Eigen::RowVector3d(mixed / norm) : normals.row(i);
+    };
+    const double w_open = ramp(mean, params.blend_open_low_deg, params.blend_open_high_deg);
+    if (w_open < 1.0) {
+      ++open_count;
+      mix(out.open, w_open);
+    }
     if (w == 1.0) continue;
     ++count;
-    // Only row i changes, and ā and κ read the turns and fits of the main loop.
-    const Eigen::RowVector3d mixed = w * out.normals.row(i) + (1.0 - w) * normals.row(i);
-    const double norm = mixed.norm();
-    out.normals.row(i) = norm > 0.0 ? Eigen::RowVector3d(mixed / norm) : normals.row(i);
+    mix(out.normals, w);
   }
   out.blended = count;
+  out.open_blended = open_count;
 }
 
 }  // namespace
@@ -179,6 +189,12 @@ void validate(const FitNormalsToPositionsParams& p) {
         "the least linearity of waves left (waves_linearity) must be in "
         "[0, 1], got " +
         number_text(p.waves_linearity));
+  if (!(p.blend_open_low_deg >= 0.0 && p.blend_open_low_deg < p.blend_open_high_deg &&
+        p.blend_open_high_deg <= 180.0))
+    throw std::invalid_argument(
+        "the blend's open window (blend_open_low_deg, blend_open_high_deg; --blend-open-low, "
+        "--blend-open-high) must satisfy 0 <= low < high <= 180 degrees, got " +
+        number_text(p.blend_open_low_deg) + " and " + number_text(p.blend_open_high_deg));
   if (p.blend_high_deg > 0.0 && !(p.blend_low_deg < p.blend_high_deg))
     throw std::invalid_argument("the blend's lower angle (blend_low_deg, --blend-low, " +
                                 number_text(p.blend_low_deg) +

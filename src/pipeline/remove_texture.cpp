@@ -107,6 +107,17 @@ void validate(const RemoveTextureParams& p) {
                                 number_text(p.wave_share_low) + ") below --wave-share-high (" +
                                 number_text(p.wave_share_high) +
                                 "); --wave-share-low 1 turns it off");
+  if (!(p.blend_share_low >= 0.0 && p.blend_share_low <= 1.0) ||
+      !(p.blend_share_high >= 0.0 && p.blend_share_high <= 1.0))
+    throw std::invalid_argument(
+        "the shares of the blend's gate (--blend-share-low, --blend-share-high) must be in "
+        "[0, 1], got " +
+        number_text(p.blend_share_low) + " and " + number_text(p.blend_share_high));
+  if (p.blend_share_high > 0.0 && !(p.blend_share_low < p.blend_share_high))
+    throw std::invalid_argument("the blend's gate needs --blend-share-low (" +
+                                number_text(p.blend_share_low) + ") below --blend-share-high (" +
+                                number_text(p.blend_share_high) +
+                                "); --blend-share-high 0 blends on every cloud");
   if (p.normal_neighbors < 3)
     throw std::invalid_argument("normal estimation needs at least 3 neighbors");
   if (p.threads < 0)
@@ -465,17 +476,23 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       rep.normals_not_fitted = fit.kept;
       rep.normals_blended = fit.blended;
     }
-    // Waves left in the positions (remove_texture.h, wave_share_low): run
-    // the update again with the flagged points' anchors lowered, from the
-    // same filtered normals; the output normals stay the first pass's.
-    if (up.mode == UpdateMode::Global && !fit.waves.empty()) {
-      std::size_t surface = 0, flagged = 0;
+    // The share of the surface points flagged as lying on waves left;
+    // negative where the fit flags nothing (no blend, or waves_min_deg 0).
+    double share = -1.0;
+    std::size_t flagged = 0;
+    if (!fit.waves.empty()) {
+      std::size_t surface = 0;
       for (std::size_t i = 0; i < n; ++i) {
         surface += !result.is_texture[i];
         flagged += !result.is_texture[i] && fit.waves[i];
       }
       rep.waves_flagged = flagged;
-      const double share = surface ? static_cast<double>(flagged) / surface : 0.0;
+      share = surface ? static_cast<double>(flagged) / surface : 0.0;
+    }
+    // Waves left in the positions (remove_texture.h, wave_share_low): run
+    // the update again with the flagged points' anchors lowered, from the
+    // same filtered normals; the output normals stay the first pass's.
+    if (up.mode == UpdateMode::Global && share >= 0.0) {
       const double t = params.wave_share_low < 1.0
                            ? std::clamp((share - params.wave_share_low) /
                                             (params.wave_share_high - params.wave_share_low),
@@ -490,6 +507,23 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
         rep.waves_released = flagged;
         keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
                                      result.input_normals, scale, up, clock.progress()));
+      }
+    }
+    // No waves left (remove_texture.h, blend_share_low): the blend with the
+    // open window, or mixed with the blend.
+    if (share >= 0.0 && params.blend_share_high > 0.0 && fit.open.rows() > 0) {
+      const double t = std::clamp(
+          (share - params.blend_share_low) / (params.blend_share_high - params.blend_share_low),
+          0.0, 1.0);
+      if (t == 0.0) {
+        fit.normals = std::move(fit.open);
+        rep.normals_blended = fit.open_blended;
+      } else if (t < 1.0) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const Eigen::RowVector3d mixed = (1.0 - t) * fit.open.row(i) + t * fit.normals.row(i);
+          const double norm = mixed.norm();
+          if (norm > 0.0) fit.normals.row(i) = mixed / norm;
+        }
       }
     }
     filtered = std::move(fit.normals);

@@ -78,6 +78,15 @@
 // points (remove_texture.h, wave_share_low). Measured on both suites and
 // 30 unseen cases (bench/quality_real_notes.md, session 14).
 //
+// The open window (session 15). The blend guards against waves left, and
+// costs elsewhere: where the positions keep none, the fit beats the blended
+// normal even at ā over 2° (the filtered normals round the shape's own
+// curvature at σs). So the result also holds the blend with a window opened
+// to blend_open_low_deg - blend_open_high_deg (5-10°; the fit alone does
+// as well on average but follows a lone bump left in the positions), which
+// remove_texture takes on clouds where few points are flagged as waves
+// (remove_texture.h, blend_share_low).
+//
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
 // kMinSpreadRatio), or when it turns more than max_turn_deg from n_i (a part
@@ -126,6 +135,12 @@ struct FitNormalsToPositionsParams {
   /// 180]; ramping down over the degree below it) the fit is taken where κ
   /// allows.
   double blend_isotropic_high_deg = 3.5;
+  /// The open window (see above): the fit is taken up to this mean angle ā,
+  /// in degrees; in [0, blend_open_high_deg).
+  double blend_open_low_deg = 5.0;
+  /// The open window: from this mean angle on, the filtered normal is kept;
+  /// linearly between the two. Degrees in (0, 180].
+  double blend_open_high_deg = 10.0;
   /// Waves left (see above): the least mean angle ā, in degrees, of a
   /// flagged point; in [0, 180], 0 flags nothing. Needs the blend
   /// (blend_high_deg > 0).
@@ -146,6 +161,14 @@ struct FitNormalsToPositionsResult {
   /// #P: 1 where waves or grooves look left in the positions (see above);
   /// empty when waves_min_deg or blend_high_deg is 0.
   std::vector<std::uint8_t> waves;
+  /// #P by 3: the blend with the open window (blend_open_low_deg,
+  /// blend_open_high_deg) in place of blend_low_deg and blend_high_deg, and
+  /// no isotropic path; empty without the blend (blend_high_deg 0).
+  /// remove_texture takes it on clouds where few points flag waves
+  /// (remove_texture.h, blend_share_low).
+  Normals open;
+  /// Points whose open output is the filtered normal, or partly.
+  std::size_t open_blended = 0;
 };
 
 void validate(const FitNormalsToPositionsParams& params);

@@ -203,6 +203,27 @@ struct RemoveTextureParams {
   /// low < high; low >= 1 turns the second pass off.
   double wave_share_low = 0.1;
   double wave_share_high = 0.2;
+  /// Output normals where no waves are left (clouds, with fit_normals and
+  /// the blend). The blend keeps the filtered normals where the fit departs
+  /// from them by a mean angle ā over 2°, against waves or grooves left in
+  /// the positions; where none are left, the fit is the better normal there
+  /// too, since the filtered normals round the shape's own curvature at σs.
+  /// So the output mixes the blend with the open window
+  /// (fit_normals_to_positions.h, open: the fit up to ā = 5°, the filtered
+  /// normal from 10°) and the blend's own window by t, normalized, t ramping
+  /// from 0 at blend_share_low to 1 at blend_share_high of the surface
+  /// points flagged as waves (the share wave_share_low reads). Measured
+  /// (bench/quality_real_notes.md, session 15), normal error: -1% to -19%
+  /// on 11 suite cases (the disc -19%, the duck -10%, the person 5.38° ->
+  /// 5.03°, the bull 5.75° -> 5.45°), +2.7% on the scaled cylinder, +1.4%
+  /// on the noisy engine block; -4.8% on 30 unseen cases of dense relief and
+  /// +0.5% on 30 unseen waves and grooves, where grooves that flag under 10%
+  /// pay up to +4.0%. Without the gate the waves and grooves pay +21%, the
+  /// torus with waves +110%. Shares in [0, 1], low < high;
+  /// blend_share_high 0 keeps the blend's own window on every cloud (before
+  /// session 15).
+  double blend_share_low = 0.05;
+  double blend_share_high = 0.1;
 
   /// Worker threads, >= 0; 0 = all cores (OpenMP's default, or OMP_NUM_THREADS).
   /// Applied for the duration of the call only (ScopedThreads in threads.h);
