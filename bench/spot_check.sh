@@ -19,6 +19,10 @@
 # normal error) or its Dmax over 1.25 times the input's (DMAX), issue 9's
 # criteria; a count of each ends the run.
 #
+# Then the same ten models with waves and grooves (dense waves R 0.015, sparse
+# U and V grooves R 0.02, 0.006 deep), 30 more cases in WORK_DIR/waves, the
+# rule only, with the same flags and counts (no peers: see bench/README.md).
+#
 # --peers: then also run the five tuned peers on the 30 cases and rank
 # detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
 # cores the first time, then cached).
@@ -77,26 +81,21 @@ wide=(
   "mocap ASE/MotionCaptureROM.ase 1"
 )
 reliefs=("bumps sparse 0.012 0.004" "scales dense 0.015 0.005" "domes dense 0.02 0.006")
-mkdir -p "$work/wide"
-flags=$work/wide/flags.txt
-: >"$flags"
-for c in "${wide[@]}"; do
-  read -r name model levels <<<"$c"
-  base=$work/wide/$name.base.ply
-  "$build/bench/peers/prepare_mesh" "$models/$model" "$base" --components largest \
-    --subdivide "$levels" >"$work/wide/$name.prepare.log"
-  for relief in "${reliefs[@]}"; do
-    read -r texture layout size amplitude <<<"$relief"
-    stem=$work/wide/$name-$texture
-    rm -f "$stem.in.ply" "$stem.gt.ply"
-    "$build/detexture" synth --base-mesh "$base" --texture "$texture" --layout "$layout" \
-      --size "$size" --amplitude "$amplitude" --points 100000 --ground-truth-points 200000 \
-      --seed 1 -o "$stem.in.ply" --ground-truth "$stem.gt.ply" >"$stem.synth.log" 2>&1
-    r=$(/usr/bin/python3 -c "print(1.5 * $size)")
-    "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q
-    "$build/detexture" compare --json "$stem.in.ply" "$stem.gt.ply" >"$stem.in.json"
-    "$build/detexture" compare --json "$stem.rule.ply" "$stem.gt.ply" >"$stem.rule.json"
-    /usr/bin/python3 - "$stem" "$name-$texture" "$flags" <<'PY'
+wave_reliefs=("waves dense 0.015 0.005" "u-grooves sparse 0.02 0.006" "v-grooves sparse 0.02 0.006")
+# check_case DIR FLAGS NAME BASE TEXTURE LAYOUT SIZE AMPLITUDE: synth's relief
+# on BASE, the rule's run, one line against the input, its flags to FLAGS.
+check_case() {
+  local dir=$1 flags=$2 name=$3 base=$4 texture=$5 layout=$6 size=$7 amplitude=$8
+  local stem=$dir/$name r
+  rm -f "$stem.in.ply" "$stem.gt.ply"
+  "$build/detexture" synth --base-mesh "$base" --texture "$texture" --layout "$layout" \
+    --size "$size" --amplitude "$amplitude" --points 100000 --ground-truth-points 200000 \
+    --seed 1 -o "$stem.in.ply" --ground-truth "$stem.gt.ply" >"$stem.synth.log" 2>&1
+  r=$(/usr/bin/python3 -c "print(1.5 * $size)")
+  "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q
+  "$build/detexture" compare --json "$stem.in.ply" "$stem.gt.ply" >"$stem.in.json"
+  "$build/detexture" compare --json "$stem.rule.ply" "$stem.gt.ply" >"$stem.rule.json"
+  /usr/bin/python3 - "$stem" "$name" "$flags" <<'PY'
 import json, sys
 stem, name, flags = sys.argv[1:]
 a = json.load(open(stem + '.in.json'))
@@ -105,15 +104,47 @@ ratio = b['dmax'] / a['dmax']
 worse = [f for f, bad in (('RES', b['signed_std'] > a['signed_std']),
                           ('NERR', b['normal_angle_mean_degrees'] > a['normal_angle_mean_degrees']),
                           ('DMAX', ratio > 1.25)) if bad]
-print('%-17s residual %.5f -> %.5f  normal error %5.2f -> %5.2f  Dmax x%.2f  %s' % (
+print('%-19s residual %.5f -> %.5f  normal error %5.2f -> %5.2f  Dmax x%.2f  %s' % (
     name, a['signed_std'], b['signed_std'], a['normal_angle_mean_degrees'],
     b['normal_angle_mean_degrees'], ratio, ' '.join(worse)))
 open(flags, 'a').write(' '.join(worse) + '\n')
 PY
+}
+
+# summarize LABEL FLAGS
+summarize() {
+  echo "$1, $(wc -l <"$2") cases: worse residual $(grep -c RES "$2" || true), worse normal" \
+    "error $(grep -c NERR "$2" || true), Dmax over 1.25 x the input's $(grep -c DMAX "$2" || true)"
+}
+
+mkdir -p "$work/wide" "$work/waves"
+flags=$work/wide/flags.txt
+wave_flags=$work/waves/flags.txt
+: >"$flags"
+: >"$wave_flags"
+for c in "${wide[@]}"; do
+  read -r name model levels <<<"$c"
+  base=$work/wide/$name.base.ply
+  "$build/bench/peers/prepare_mesh" "$models/$model" "$base" --components largest \
+    --subdivide "$levels" >"$work/wide/$name.prepare.log"
+  for relief in "${reliefs[@]}"; do
+    read -r texture layout size amplitude <<<"$relief"
+    check_case "$work/wide" "$flags" "$name-$texture" "$base" "$texture" "$layout" "$size" \
+      "$amplitude"
   done
 done
-echo "wider check, $(wc -l <"$flags") cases: worse residual $(grep -c RES "$flags"), worse normal" \
-  "error $(grep -c NERR "$flags"), Dmax over 1.25 x the input's $(grep -c DMAX "$flags")"
+summarize "wider check" "$flags"
+
+# The waves and grooves (see the top): the same ten models, the rule only.
+for c in "${wide[@]}"; do
+  read -r name model levels <<<"$c"
+  for relief in "${wave_reliefs[@]}"; do
+    read -r texture layout size amplitude <<<"$relief"
+    check_case "$work/waves" "$wave_flags" "$name-$texture" "$work/wide/$name.base.ply" \
+      "$texture" "$layout" "$size" "$amplitude"
+  done
+done
+summarize "waves and grooves" "$wave_flags"
 if [ "$peers" = 1 ]; then
   "${DETEXTURE_PYTHON:-/usr/bin/python3}" "$(dirname "$0")/spot_check_peers.py" "$build" "$work/wide"
 fi
