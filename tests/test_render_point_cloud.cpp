@@ -397,6 +397,18 @@ TEST(RenderPointCloud, LabelsHaveAGlyphForEveryPrintableCharacter) {
     if (ch == '?') continue;
     EXPECT_TRUE(seen.insert(label_strip(std::string(1, ch))).second) << "'" << ch << "'";
   }
+  // Labels are UTF-8: the degree, times and micro signs have glyphs of
+  // their own, the minus sign is the hyphen's, and any other character, or
+  // a malformed byte, is one '?' (not one per byte).
+  seen.insert(label_strip("??"));  // what a two-byte character was drawn as
+  for (const char* own : {"\u00b0", "\u00d7", "\u00b5"})
+    EXPECT_TRUE(seen.insert(label_strip(own)).second) << own;
+  EXPECT_EQ(label_strip("\u2212"), label_strip("-"));
+  for (const char* other : {"\u00e9", "\u4e2d", "\U0001F600", "\xff", "\xc3", "\xe2\x88"})
+    EXPECT_EQ(label_strip(other), unknown) << other;
+  EXPECT_EQ(label_strip("\xc0\xaf"), unknown) << "an overlong form";
+  EXPECT_EQ(label_strip("\x88\x88"), label_strip("??")) << "two stray continuation bytes";
+  EXPECT_EQ(label_strip("a\u00e9b"), label_strip("a?b"));
 }
 
 TEST(RenderPointCloud, ViewsByNameAndByAngles) {

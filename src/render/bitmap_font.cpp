@@ -8,8 +8,8 @@ namespace {
 
 using Glyph = std::array<const char*, kGlyphHeight>;
 
-const std::map<char, Glyph>& font() {
-  static const std::map<char, Glyph> glyphs = {
+const std::map<char32_t, Glyph>& font() {
+  static const std::map<char32_t, Glyph> glyphs = {
       {' ', {".....", ".....", ".....", ".....", ".....", ".....", "....."}},
       {'0', {".###.", "#...#", "#..##", "#.#.#", "##..#", "#...#", ".###."}},
       {'1', {"..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###."}},
@@ -105,33 +105,79 @@ const std::map<char, Glyph>& font() {
       {'X', {"#...#", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "#...#"}},
       {'Y', {"#...#", "#...#", ".#.#.", "..#..", "..#..", "..#..", "..#.."}},
       {'Z', {"#####", "....#", "...#.", "..#..", ".#...", "#....", "#####"}},
+      {U'\u00B0', {".##..", "#..#.", ".##..", ".....", ".....", ".....", "....."}},  // °
+      {U'\u00D7', {".....", "#...#", ".#.#.", "..#..", ".#.#.", "#...#", "....."}},  // ×
+      {U'\u2212', {".....", ".....", ".....", "#####", ".....", ".....", "....."}},  // −
+      {U'\u00B5', {"#...#", "#...#", "#...#", "#..##", "###.#", "#....", "#...."}},  // µ
   };
   return glyphs;
 }
 
 }  // namespace
 
-const Glyph& glyph(char c) {
+std::u32string code_points(const std::string& utf8) {
+  std::u32string out;
+  out.reserve(utf8.size());
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(utf8[k]); };
+  for (std::size_t k = 0; k < utf8.size();) {
+    const unsigned char b = byte(k);
+    // Length and payload of the lead byte; 0 for a stray continuation byte
+    // or a byte no UTF-8 sequence starts with.
+    const int length = b < 0x80           ? 1
+                       : (b >> 5) == 0x6  ? 2
+                       : (b >> 4) == 0xE  ? 3
+                       : (b >> 3) == 0x1E ? 4
+                                          : 0;
+    char32_t c = length == 1 ? b : length == 2 ? b & 0x1F : length == 3 ? b & 0x0F : b & 0x07;
+    bool ok = length > 0 && k + length <= utf8.size();
+    for (int j = 1; ok && j < length; ++j) {
+      ok = (byte(k + j) & 0xC0) == 0x80;
+      c = (c << 6) | (byte(k + j) & 0x3F);
+    }
+    // Overlong forms, surrogates and values past U+10FFFF are malformed too.
+    static constexpr char32_t kMinimum[] = {0, 0, 0x80, 0x800, 0x10000};
+    ok = ok && c >= kMinimum[length] && c <= 0x10FFFF && !(c >= 0xD800 && c <= 0xDFFF);
+    if (ok) {
+      out.push_back(c);
+      k += length;
+      continue;
+    }
+    // One U+FFFD for the lead byte and the continuation bytes after it.
+    out.push_back(U'\uFFFD');
+    std::size_t skip = 1;
+    while (length > 1 && static_cast<int>(skip) < length && k + skip < utf8.size() &&
+           (byte(k + skip) & 0xC0) == 0x80)
+      ++skip;
+    k += skip;
+  }
+  return out;
+}
+
+const Glyph& glyph(char32_t c) {
   const auto& f = font();
   const auto it = f.find(c);
   return it != f.end() ? it->second : f.at('?');
 }
 
-bool has_descender(char c) { return c == 'g' || c == 'p' || c == 'q' || c == 'y'; }
+bool has_descender(char32_t c) {
+  return c == 'g' || c == 'p' || c == 'q' || c == 'y' || c == U'\u00B5';
+}
 
 int text_width(const std::string& text, int scale) {
-  if (text.empty()) return 0;
-  return scale * (kGlyphAdvance * static_cast<int>(text.size()) - (kGlyphAdvance - kGlyphWidth));
+  const auto count = static_cast<int>(code_points(text).size());
+  if (count == 0) return 0;
+  return scale * (kGlyphAdvance * count - (kGlyphAdvance - kGlyphWidth));
 }
 
 void draw_text(Image& image, int x, int y, const std::string& text, int scale,
                const std::array<std::uint8_t, 3>& color, int clip_x0, int clip_x1) {
   clip_x0 = std::max(clip_x0, 0);
   clip_x1 = std::min(clip_x1, image.width);
-  for (std::size_t k = 0; k < text.size(); ++k) {
-    const Glyph& g = glyph(text[k]);
+  const std::u32string chars = code_points(text);
+  for (std::size_t k = 0; k < chars.size(); ++k) {
+    const Glyph& g = glyph(chars[k]);
     const int gx = x + static_cast<int>(k) * kGlyphAdvance * scale;
-    const int gy = has_descender(text[k]) ? y + kGlyphDescent * scale : y;
+    const int gy = has_descender(chars[k]) ? y + kGlyphDescent * scale : y;
     for (int row = 0; row < kGlyphHeight; ++row)
       for (int col = 0; col < kGlyphWidth; ++col) {
         if (g[row][col] != '#') continue;

@@ -45,7 +45,7 @@ struct RenderCloud {
   Normals normals;
   std::vector<double> scalar;  ///< #P values to colour by, or empty for the plain surface colour
   Triangles triangles;         ///< #T by 3; empty: draw the points
-  std::string label;           ///< printed above the panel (e.g. the file name); may be empty
+  std::string label;           ///< UTF-8 text above the panel (e.g. the file name); may be empty
 };
 
 /// Where the camera looks from. The up axis of the scene points up in the
