@@ -77,13 +77,28 @@ Normals tilted_in_tangent_plane(const Normals& N, double deg,
   return out;
 }
 
-// The blend on a sphere whose positions are exact, so that the fit is the
-// radial normal and turns from the guide by the guide's tilt everywhere:
+// The blend's window tests: a sphere whose positions are exact, so that the
+// fit is the radial normal and turns from guides tilted in the tangent plane
+// by the tilt everywhere.
+struct TiltedSphere {
+  test::BumpyPlane s = test::fibonacci_sphere(20000, 1.0);
+  Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  Normals guide;
+  FitNormalsToPositionsResult fit;   ///< with the params given
+  FitNormalsToPositionsResult pure;  ///< the fit without the blend
+  /// Tilt the guides by `deg` and fit with p (and without the blend).
+  void tilt(double deg, const FitNormalsToPositionsParams& p) {
+    guide = tilted_in_tangent_plane(s.N, deg);
+    fit = fit_normals_to_positions(s.P, guide, R, p);
+    pure = fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+  }
+};
+
 // 0.5° (under blend_low = 1°) takes the fit, 10° (past blend_high = 2°)
 // keeps the guide, 1.5° mixes them about half and half.
 TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
-  const auto s = test::fibonacci_sphere(20000, 1.0);
-  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  TiltedSphere t;
+  const auto& [s, R, guide, fit, pure] = t;
   FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
   ASSERT_EQ(p.blend_low_deg, 1.0);
   ASSERT_EQ(p.blend_high_deg, 2.0);
@@ -93,10 +108,7 @@ TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
   const auto rows = static_cast<std::size_t>(s.P.rows());
   for (const double tilt : {0.5, 1.5, 10.0}) {
     SCOPED_TRACE("tilt " + std::to_string(tilt));
-    const Normals guide = tilted_in_tangent_plane(s.N, tilt);
-    const FitNormalsToPositionsResult fit = fit_normals_to_positions(s.P, guide, R, p);
-    const FitNormalsToPositionsResult pure =
-        fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+    t.tilt(tilt, p);
     if (tilt == 0.5) {
       EXPECT_EQ(fit.blended, 0u);
       EXPECT_TRUE(fit.normals == pure.normals);
@@ -118,8 +130,8 @@ TEST(FitNormalsToPositions, BlendFollowsTheDisagreementWithTheGuide) {
 // the guide and the open output is the fit; tilted by 7.5° (halfway through
 // the window) it is between the two; tilted by 12° it is the guide too.
 TEST(FitNormalsToPositions, OpenWindowTakesTheFitFurther) {
-  const auto s = test::fibonacci_sphere(20000, 1.0);
-  const Neighborhoods R = radius_neighborhoods(s.P, {0.08, 0});
+  TiltedSphere t;
+  const auto& [s, R, guide, fit, pure] = t;
   FitNormalsToPositionsParams p = blended_at(0.03, 0.06);
   ASSERT_EQ(p.blend_open_low_deg, 5.0);
   ASSERT_EQ(p.blend_open_high_deg, 10.0);
@@ -127,10 +139,7 @@ TEST(FitNormalsToPositions, OpenWindowTakesTheFitFurther) {
   const auto rows = static_cast<std::size_t>(s.P.rows());
   for (const double tilt : {3.0, 7.5, 12.0}) {
     SCOPED_TRACE("tilt " + std::to_string(tilt));
-    const Normals guide = tilted_in_tangent_plane(s.N, tilt);
-    const FitNormalsToPositionsResult fit = fit_normals_to_positions(s.P, guide, R, p);
-    const FitNormalsToPositionsResult pure =
-        fit_normals_to_positions(s.P, guide, R, params_at(0.03, 0.06));
+    t.tilt(tilt, p);
     EXPECT_TRUE(fit.normals.isApprox(guide, 1e-12));
     EXPECT_EQ(fit.blended, rows);
     ASSERT_EQ(fit.open.rows(), s.P.rows());
@@ -375,14 +384,9 @@ TEST(FitNormalsToPositions, WavesLeftAreFlaggedAtTheirCrestsAndTroughs) {
   EXPECT_THROW(fit_normals_to_positions(s.P, guide, R, p), std::invalid_argument);
 }
 
-// Through remove_texture, the second pass: a torus with dense waves (synth's,
-// 0.04 wide and 0.016 high, 30k points; r = 1.5 × 0.04) flags more than
-// wave_share_high of its surface points, and keeps less of its waves than
-// with the pass off (wave_share_low 1): the spread of the output's heights
-// over the base surface drops. The output normals are the first pass's. A
-// sphere with a few bumps flags under wave_share_low and is left as the
-// first pass made it.
-TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
+// synth's torus with dense waves 0.04 wide and 0.016 high (30k points), and
+// the suites' rule for it: r = σs = 1.5 × 0.04.
+SynthesizedShape wavy_torus() {
   SynthParams sp;
   sp.shape = BaseShape::Torus;
   sp.texture = TextureKind::Waves;
@@ -391,11 +395,27 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   sp.amplitude = 0.016;
   sp.points = 30000;
   sp.ground_truth_points = 1;
-  const SynthesizedShape torus = synthesize_shape(sp);
+  return synthesize_shape(sp);
+}
+
+RemoveTextureParams wavy_torus_params() {
   RemoveTextureParams p;
-  p.radius = Length{1.5 * sp.size, Length::Unit::Absolute};
+  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
   p.sigma_s = p.radius;
   p.threads = 2;
+  return p;
+}
+
+// Through remove_texture, the second pass: a torus with dense waves (synth's,
+// 0.04 wide and 0.016 high, 30k points; r = 1.5 × 0.04) flags more than
+// wave_share_high of its surface points, and keeps less of its waves than
+// with the pass off (wave_share_low 1): the spread of the output's heights
+// over the base surface drops. The output normals are the first pass's. A
+// sphere with a few bumps flags under wave_share_low and is left as the
+// first pass made it.
+TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
+  const SynthesizedShape torus = wavy_torus();
+  RemoveTextureParams p = wavy_torus_params();
   const RemoveTextureResult on = remove_texture(torus.positions, Normals(), p);
   p.wave_share_low = 1.0;
   const RemoveTextureResult off = remove_texture(torus.positions, Normals(), p);
@@ -456,19 +476,8 @@ TEST(FitNormalsToPositions, RemoveTextureOpensTheBlendWhereNoWavesAreLeft) {
   EXPECT_TRUE(gated.normals == wide.normals);
   EXPECT_EQ(gated.report.normals_blended, wide.report.normals_blended);
 
-  SynthParams sp;
-  sp.shape = BaseShape::Torus;
-  sp.texture = TextureKind::Waves;
-  sp.layout = TextureLayout::Dense;
-  sp.size = 0.04;
-  sp.amplitude = 0.016;
-  sp.points = 30000;
-  sp.ground_truth_points = 1;
-  const SynthesizedShape torus = synthesize_shape(sp);
-  RemoveTextureParams q;
-  q.radius = Length{1.5 * sp.size, Length::Unit::Absolute};
-  q.sigma_s = q.radius;
-  q.threads = 2;
+  const SynthesizedShape torus = wavy_torus();
+  RemoveTextureParams q = wavy_torus_params();
   const RemoveTextureResult waves = remove_texture(torus.positions, Normals(), q);
   EXPECT_GT(waves.report.waves_flagged,
             static_cast<std::size_t>(q.blend_share_high *
