@@ -222,6 +222,12 @@ void warn(const PipelineObserver& observer, const std::string& message) {
 
 namespace {
 
+// Where a share of flagged points lies between low (0) and high (1), clamped:
+// the gates of the waves' second pass and of the blend's open window.
+double share_ramp(double share, double low, double high) {
+  return std::clamp((share - low) / (high - low), 0.0, 1.0);
+}
+
 // The memory guard: refuse before building neighborhoods that would not fit.
 void check_memory(const Positions& P, const RemoveTextureParams& params, RemoveTextureReport& rep) {
   const std::uint64_t limit =
@@ -494,9 +500,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     // same filtered normals; the output normals stay the first pass's.
     if (up.mode == UpdateMode::Global && share >= 0.0) {
       const double t = params.wave_share_low < 1.0
-                           ? std::clamp((share - params.wave_share_low) /
-                                            (params.wave_share_high - params.wave_share_low),
-                                        0.0, 1.0)
+                           ? share_ramp(share, params.wave_share_low, params.wave_share_high)
                            : 0.0;
       if (t > 0.0 && up.anchor_surface > up.anchor_texture) {
         StageClock clock(observer, rep, "update positions, waves");
@@ -512,9 +516,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     // No waves left (remove_texture.h, blend_share_low): the blend with the
     // open window, or mixed with the blend.
     if (share >= 0.0 && params.blend_share_high > 0.0 && fit.open.rows() > 0) {
-      const double t = std::clamp(
-          (share - params.blend_share_low) / (params.blend_share_high - params.blend_share_low),
-          0.0, 1.0);
+      const double t = share_ramp(share, params.blend_share_low, params.blend_share_high);
       if (t == 0.0) {
         fit.normals = std::move(fit.open);
         rep.normals_blended = fit.open_blended;

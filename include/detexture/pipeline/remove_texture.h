@@ -214,11 +214,11 @@ struct RemoveTextureParams {
   /// from 0 at blend_share_low to 1 at blend_share_high of the surface
   /// points flagged as waves (the share wave_share_low reads). Measured
   /// (bench/quality_real_notes.md, session 15), normal error: -1% to -19%
-  /// on 11 suite cases (the disc -19%, the duck -10%, the person 5.38° ->
+  /// on 10 suite cases (the disc -19%, the duck -10%, the person 5.38° ->
   /// 5.03°, the bull 5.75° -> 5.45°), +2.7% on the scaled cylinder, +1.4%
   /// on the noisy engine block; -4.8% on 30 unseen cases of dense relief and
   /// +0.5% on 30 unseen waves and grooves, where grooves that flag under 10%
-  /// pay up to +4.0%. Without the gate the waves and grooves pay +21%, the
+  /// pay up to +4.1%. Without the gate the waves and grooves pay +21%, the
   /// torus with waves +110%. Shares in [0, 1], low < high;
   /// blend_share_high 0 keeps the blend's own window on every cloud (before
   /// session 15).
