@@ -522,6 +522,14 @@ int run_detexture(int argc, char** argv) {
                  "Fitted output normals: range scale on 1 - cos of the angle between filtered "
                  "normals; smaller keeps the fit closer to one side of a crease")
       ->capture_default_str();
+  app.add_option("--fit-fine-ratio", params.output_normals.fine_ratio,
+                 "Fitted output normals: a second fit at this fraction of --fit-sigma, taken "
+                 "where it departs from the first by more than its noise explains; 0 for none")
+      ->capture_default_str();
+  app.add_option("--fit-fine-gamma", params.output_normals.fine_gamma,
+                 "Fitted output normals: the fine fit is taken from a departure of this many "
+                 "times its noise angle on (fully from one more)")
+      ->capture_default_str();
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")

@@ -265,6 +265,10 @@ DETEXTURE_VARIANTS = [
     ("blend-everywhere", ["--blend-share-high", "0"],
      "output normals blended with the narrow window (1-2°) on every cloud, also where no "
      "waves are left (fit_normals_to_positions.h; the default before session 15)"),
+    ("one-scale-fit", ["--fit-fine-ratio", "0"],
+     "output normals fitted at one scale (σ = 0.3 r) only, without the fine fit where it "
+     "departs by more than its noise explains (fit_normals_to_positions.h; the default "
+     "before session 17)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),
@@ -380,7 +384,7 @@ RUN_COST = {
     "hard-subneighborhood": 0.15, "whole-neighborhoods": 0.15, "flat-shared": 0.15, "auto": 0.15,
     "full-anchors": 0.15, "fitted-normals": 0.15, "filtered-normals": 0.15, "sigma-r-30": 0.15,
     "estimated-normals": 0.15, "no-anchor-angle": 0.15, "no-blend-coherence": 0.15,
-    "no-wave-release": 0.15, "blend-everywhere": 0.15,
+    "no-wave-release": 0.15, "blend-everywhere": 0.15, "one-scale-fit": 0.15,
     "cgal-bilateral": 0.8, "cgal-jet": 1.0, "pcl-mls": 0.05, "meshlab-rimls": 0.5, "cgal-wlop": 1.2,
 }
 

@@ -324,7 +324,10 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--blend-share-low 0.3 --blend-share-high 0.2",
                            "--blend-share-high 1.5",
                            "--blend-open-low 10 --blend-open-high 5",
-                           "--blend-open-high 200"}) {
+                           "--blend-open-high 200",
+                           "--fit-fine-ratio 1",
+                           "--fit-fine-ratio -0.5",
+                           "--fit-fine-gamma -1"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

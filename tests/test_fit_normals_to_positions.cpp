@@ -263,6 +263,65 @@ TEST(FitNormalsToPositions, RangeWeightKeepsCreasesSharp) {
   EXPECT_GT(worst_blurred, 20.0);
 }
 
+// The fine scale on a shallow crease (20°, as between the facets of a
+// low-poly model; the range weight barely separates the faces there). The
+// fit at σ leans across the crease up to about σ from it; the fine fit, σ/2,
+// half as far, and the positions hold no noise to make it doubt. Far from
+// the crease both are exact.
+TEST(FitNormalsToPositions, FineScaleFollowsAShallowCrease) {
+  const auto s = test::folded_plane(81, 20.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  FitNormalsToPositionsParams p = params_at(0.04, 0.08);
+  ASSERT_EQ(p.fine_ratio, 0.5);
+  const FitNormalsToPositionsResult fine = fit_normals_to_positions(s.P, s.N, R, p);
+  p.fine_ratio = 0.0;
+  const FitNormalsToPositionsResult one = fit_normals_to_positions(s.P, s.N, R, p);
+  double near_fine = 0.0, near_one = 0.0, far_worst = 0.0;
+  int near = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double x = i / 81 / 80.0;  // the grid's x before folding
+    const double e_fine = test::angle_deg(fine.normals.row(i), s.N.row(i));
+    if (std::abs(x - 0.5) > 0.1) {
+      far_worst = std::max(far_worst, e_fine);
+      continue;
+    }
+    near_fine += e_fine;
+    near_one += test::angle_deg(one.normals.row(i), s.N.row(i));
+    ++near;
+  }
+  near_fine /= near;
+  near_one /= near;
+  EXPECT_GT(near_one, 1.0);
+  EXPECT_LT(near_fine, 0.7 * near_one);
+  EXPECT_LT(far_worst, 1e-6);
+}
+
+// The fine scale on noise: a plane whose heights carry noise of 0.2 of the
+// spacing. The fine fit departs from the fit at σ by about its own noise
+// angle, so it is seldom taken, and the normals stay nearly as good as
+// at σ alone; a fit at σ/2 everywhere follows the noise.
+TEST(FitNormalsToPositions, FineScaleIsNotTakenForNoise) {
+  auto s = test::bumpy_plane(81, 0.0, 1.0);
+  std::mt19937 gen(7);
+  std::normal_distribution<double> noise(0.0, 0.2 / 80.0);
+  for (int i = 0; i < s.P.rows(); ++i) s.P(i, 2) = noise(gen);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  const auto mean_error = [&](const FitNormalsToPositionsParams& p) {
+    const Normals fit = fit_normals_to_positions(s.P, s.N, R, p).normals;
+    double sum = 0.0;
+    for (int i = 0; i < s.P.rows(); ++i) sum += test::angle_deg(fit.row(i), s.N.row(i));
+    return sum / static_cast<double>(s.P.rows());
+  };
+  FitNormalsToPositionsParams p = params_at(0.04, 0.08);
+  const double fine = mean_error(p);
+  p.fine_ratio = 0.0;
+  const double one = mean_error(p);
+  p.sigma = 0.02;
+  const double half = mean_error(p);
+  EXPECT_GT(half, 1.5 * one);
+  EXPECT_LT(fine, 1.1 * one);
+}
+
 // A flat sheet guided by normals 60° off: the fit (+z) would turn by 60°,
 // past max_turn_deg = 45, so every point keeps its guide; at 90 it is taken.
 TEST(FitNormalsToPositions, LargeTurnsAreRefused) {
@@ -315,6 +374,14 @@ TEST(FitNormalsToPositions, BadInputIsRefused) {
   p.blend_low_deg = p.blend_high_deg;
   EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
   p.blend_low_deg = -0.5;
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  for (const double ratio : {-0.1, 1.0}) {
+    p = params_at(0.1, 0.1);
+    p.fine_ratio = ratio;
+    EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
+  }
+  p = params_at(0.1, 0.1);
+  p.fine_gamma = -1.0;
   EXPECT_THROW(fit_normals_to_positions(s.P, s.N, R, p), std::invalid_argument);
   EXPECT_THROW(fit_normals_to_positions(s.P, s.N.topRows(5), R, params_at(0.1, 0.1)),
                std::invalid_argument);

@@ -300,3 +300,21 @@ def test_blend_share_matches_the_command_line(cube, work):
         detexture.remove_texture(cloud, radius=0.09, blend_share_low=0.3, blend_share_high=0.2)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, output_normals_blend_open_low_deg=20.0)
+
+
+def test_fine_fit_matches_the_command_line(cube, work):
+    """The output normals' fine scale: on by default, fine_ratio = 0 fits at
+    one scale; the positions do not change, the same from Python and from
+    the command line."""
+    d = detexture.default_parameters()
+    assert (d["output_normals_fine_ratio"], d["output_normals_fine_gamma"]) == (0.5, 2.0)
+    cloud = detexture.read_point_cloud(cube)
+    out = work / "one_scale.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--fit-fine-ratio", "0", "-q", "--force")
+    fine = detexture.remove_texture(cloud, radius=0.09)
+    one = detexture.remove_texture(cloud, radius=0.09, output_normals_fine_ratio=0.0)
+    assert np.array_equal(detexture.read_point_cloud(out).normals, one.normals)
+    assert np.array_equal(fine.positions, one.positions)
+    assert not np.array_equal(fine.normals, one.normals)
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.09, output_normals_fine_ratio=1.0)

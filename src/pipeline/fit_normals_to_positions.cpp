@@ -59,6 +59,52 @@ std::uint8_t waves_left(const Positions& P, const Normals& normals, const Normal
   return cxy * cxy / (vx * vy) >= params.waves_linearity ? 1 : 0;
 }
 
+// A weighted plane fit of R_i's members (weights[k] for the k-th, 0 to leave
+// one out), in coordinates relative to p_i and two passes around the mean
+// (exact for far-from-origin clouds, as in estimate_normals): the normal,
+// the scatter off the plane and across it (the smallest and the middle
+// eigenvalue, λ0 and λ1, over Σw) and N = (Σw)² / Σw², the weights'
+// effective count.
+struct PlaneFit {
+  bool ok = false;
+  Eigen::RowVector3d normal = Eigen::RowVector3d::Zero();
+  double off = 0.0, across = 0.0, count = 0.0;
+};
+
+PlaneFit fit_plane(const Positions& P, const Neighborhoods& R, std::size_t i,
+                   const std::vector<double>& weights) {
+  PlaneFit fit;
+  const Eigen::RowVector3d pi = P.row(i);
+  double weight = 0.0, weight_sq = 0.0;
+  int count = 0;
+  Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    const double wj = weights[k];
+    if (!(wj > 0.0)) continue;
+    weight += wj;
+    weight_sq += wj * wj;
+    mean += wj * (P.row(R.begin(i)[k]) - pi);
+    ++count;
+  }
+  if (count < 3 || !(weight > 0.0)) return fit;
+  mean /= weight;
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    if (!(weights[k] > 0.0)) continue;
+    const Eigen::RowVector3d q = P.row(R.begin(i)[k]) - pi - mean;
+    C.noalias() += weights[k] * q.transpose() * q;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
+  const Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(0.0);
+  if (!(std::sqrt(lambda(1)) > kMinSpreadRatio * std::sqrt(lambda(2)))) return fit;
+  fit.ok = true;
+  fit.normal = eig.eigenvectors().col(0).transpose().normalized();
+  fit.off = lambda(0) / weight;
+  fit.across = lambda(1) / weight;
+  fit.count = weight * weight / weight_sq;
+  return fit;
+}
+
 // The blend (header): ā_i is the mean of turn[j] over p_i and its neighbors
 // within ρ that were fitted (a refused fit counts as 180°: it marks the fit
 // as untrustworthy there); κ_i is the share of the largest eigenvalue in the
@@ -189,6 +235,15 @@ void validate(const FitNormalsToPositionsParams& p) {
         "the least linearity of waves left (waves_linearity) must be in "
         "[0, 1], got " +
         number_text(p.waves_linearity));
+  if (!(p.fine_ratio >= 0.0 && p.fine_ratio < 1.0))
+    throw std::invalid_argument(
+        "the normal fit's fine scale (fine_ratio, --fit-fine-ratio) must be in [0, 1), 0 for "
+        "none, got " +
+        number_text(p.fine_ratio));
+  if (!(p.fine_gamma >= 0.0) || !std::isfinite(p.fine_gamma))
+    throw std::invalid_argument(
+        "the normal fit's fine confidence (fine_gamma, --fit-fine-gamma) must be at least 0, got " +
+        number_text(p.fine_gamma));
   if (!(p.blend_open_low_deg >= 0.0 && p.blend_open_low_deg < p.blend_open_high_deg &&
         p.blend_open_high_deg <= 180.0))
     throw std::invalid_argument(
@@ -221,64 +276,87 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
   const bool blend = params.blend_high_deg > 0.0;
   std::vector<float> turn(blend ? n : 0, kNotFitted);  // see kNotFitted
 
+  const bool fine = params.fine_ratio > 0.0;
+  // Per point: a plane was fitted; the fine fit, its noise estimate σn² and
+  // its λ1 N (0 where it was not fitted).
+  std::vector<std::uint8_t> fitted(n, 0);
+  Normals fine_normals(fine ? n : 0, 3);
+  std::vector<double> noise_sq(fine ? n : 0, 0.0), fine_spread(fine ? n : 0, 0.0);
+  const double inv_two_fine_sq =
+      fine ? inv_two_sigma_sq / (params.fine_ratio * params.fine_ratio) : 0.0;
+
 #pragma omp parallel reduction(+ : kept)
   {
-    std::vector<double> weights;  // w_ij of R_i's members, reused from point to point
+    // w_ij of R_i's members at σ and at the fine scale, reused from point to point.
+    std::vector<double> weights, fine_weights;
 #pragma omp for schedule(dynamic, 256)
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::RowVector3d pi = P.row(i);
       const Eigen::RowVector3d ni = normals.row(i);
       if (ni.squaredNorm() == 0.0 || !ni.allFinite()) continue;
-      // Two passes around the weighted mean, in coordinates relative to p'_i
-      // (exact for far-from-origin clouds, as in estimate_normals).
       weights.assign(R.count(i), 0.0);
-      double weight = 0.0;
-      int count = 0;
-      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+      if (fine) fine_weights.assign(R.count(i), 0.0);
       for (std::size_t k = 0; k < weights.size(); ++k) {
         const std::uint32_t j = R.begin(i)[k];
-        const Eigen::RowVector3d d = P.row(j) - pi;
-        const double d_sq = d.squaredNorm();
+        const double d_sq = (P.row(j) - pi).squaredNorm();
         if (d_sq > radius_sq) continue;
         const double t = 1.0 - ni.dot(normals.row(j));
-        const double wj = std::exp(-d_sq * inv_two_sigma_sq - t * t * inv_two_range_sq);
-        if (!(wj > 0.0)) continue;
-        weights[k] = wj;
-        weight += wj;
-        mean += wj * d;
-        ++count;
+        const double range = t * t * inv_two_range_sq;
+        weights[k] = std::exp(-d_sq * inv_two_sigma_sq - range);
+        if (fine) fine_weights[k] = std::exp(-d_sq * inv_two_fine_sq - range);
       }
-      if (count < 3 || !(weight > 0.0)) {
+      const PlaneFit wide = fit_plane(P, R, i, weights);
+      if (!wide.ok) {
         ++kept;
         continue;
       }
-      mean /= weight;
-      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-      for (std::size_t k = 0; k < weights.size(); ++k) {
-        if (weights[k] == 0.0) continue;
-        const Eigen::RowVector3d q = P.row(R.begin(i)[k]) - pi - mean;
-        C.noalias() += weights[k] * q.transpose() * q;
-      }
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C);
-      const Eigen::Vector3d lambda = eig.eigenvalues().cwiseMax(0.0);
-      if (!(std::sqrt(lambda(1)) > kMinSpreadRatio * std::sqrt(lambda(2)))) {
-        ++kept;
-        continue;
-      }
-      Eigen::RowVector3d m = eig.eigenvectors().col(0).transpose().normalized();
-      double c = m.dot(ni);
-      if (c < 0.0) {
-        m = -m;
-        c = -c;
-      }
-      if (c < min_cos) {
-        ++kept;
-        if (blend) turn[i] = kRefused;
-        continue;
-      }
-      out.normals.row(i) = m;
-      if (blend) turn[i] = static_cast<float>(std::acos(std::min(c, 1.0)) * 180.0 / M_PI);
+      fitted[i] = 1;
+      out.normals.row(i) = wide.normal;
+      if (!fine) continue;
+      const PlaneFit narrow = fit_plane(P, R, i, fine_weights);
+      if (!narrow.ok || !(wide.across > narrow.across)) continue;
+      fine_normals.row(i) =
+          narrow.normal.dot(wide.normal) < 0.0 ? Eigen::RowVector3d(-narrow.normal) : narrow.normal;
+      // λ0 = σn² + c λ1 at both scales (noise plus the shape's bending).
+      noise_sq[i] = std::max(0.0, (narrow.off * wide.across - wide.off * narrow.across) /
+                                      (wide.across - narrow.across));
+      fine_spread[i] = narrow.across * narrow.count;
     }
+  }
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!fitted[i]) continue;
+    const Eigen::RowVector3d ni = normals.row(i);
+    Eigen::RowVector3d m = out.normals.row(i);
+    if (fine && fine_spread[i] > 0.0) {
+      double sum = noise_sq[i];
+      int members = 1;
+      for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+        const std::uint32_t j = *nb;
+        if (j == i || !(fine_spread[j] > 0.0) || (P.row(j) - P.row(i)).squaredNorm() > radius_sq)
+          continue;
+        sum += noise_sq[j];
+        ++members;
+      }
+      const double noise = std::sqrt(sum / members / fine_spread[i]);
+      const Eigen::RowVector3d fm = fine_normals.row(i);
+      const double d = std::acos(std::min(fm.dot(m), 1.0));
+      const double t = noise > 0.0 ? std::clamp(d / noise - params.fine_gamma, 0.0, 1.0) : 1.0;
+      if (t > 0.0) m = ((1.0 - t) * m + t * fm).normalized();
+    }
+    double c = m.dot(ni);
+    if (c < 0.0) {
+      m = -m;
+      c = -c;
+    }
+    if (c < min_cos) {
+      ++kept;
+      out.normals.row(i) = ni;
+      if (blend) turn[i] = kRefused;
+      continue;
+    }
+    out.normals.row(i) = m;
+    if (blend) turn[i] = static_cast<float>(std::acos(std::min(c, 1.0)) * 180.0 / M_PI);
   }
   out.kept = kept;
   if (blend) blend_with_filtered(P, normals, R, params, turn, out);

@@ -87,6 +87,26 @@
 // remove_texture takes on clouds where few points are flagged as waves
 // (remove_texture.h, blend_share_low).
 //
+// The fine scale (session 17). One σ (0.3 r) rounds what is smaller than
+// it: facets of a low-poly model, seams, the rims of thin parts; σ/2
+// follows them but also follows the noise left in the positions (σ = 0.15 r
+// everywhere: the person 5.03° → 4.93°, the noisy cube +19%). So each point
+// also gets a plane fit with weights of σ · fine_ratio, and takes it where
+// it departs from the fit at σ by more than its own noise explains, in the
+// spirit of the intersection-of-confidence-intervals rule for choosing a
+// scale per point. The scatter off each fit's plane is λ0 = σn² + c λ1 at
+// both scales (noise, plus the shape's bending, which grows with the
+// window's spread λ1), which gives σn² per point; averaged over p_i and its
+// fitted neighbors within ρ, it gives the fine fit's noise angle
+// θ = √(σn² / (λ1 N)) (N the weights' effective count, (Σw)²/Σw²). With d
+// the angle between the two fits, the fine one weighs
+// clamp(d/θ − fine_gamma, 0, 1). Measured on both suites and 60 unseen
+// cases (bench/quality_real_notes.md, session 17): the person 5.03° → 4.94°
+// (under its input's 4.97°), the duck −2.4%, the spider −1.6%; the disc
+// +3.3%, the multiscale sphere +2.4% (smooth clean shapes, where the bending
+// looks like no noise and the fine fit follows small remnants); the unseen
+// cases −0.6%.
+//
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
 // kMinSpreadRatio), or when it turns more than max_turn_deg from n_i (a part
@@ -115,6 +135,13 @@ struct FitNormalsToPositionsParams {
   /// A fit that turns farther than this from the filtered normal is not
   /// taken, degrees in (0, 180].
   double max_turn_deg = 45.0;
+  /// The fine scale: a second fit at σ · fine_ratio, taken where it departs
+  /// from the fit at σ by more than fine_gamma times its own expected noise
+  /// (see above); in [0, 1), 0 turns it off.
+  double fine_ratio = 0.5;
+  /// The fine scale's confidence factor Γ: the fine fit is taken from a
+  /// departure of Γ times its noise angle on, fully from Γ + 1; >= 0.
+  double fine_gamma = 2.0;
   /// Blend: where the fitted normals differ from the filtered ones by a mean
   /// angle of at most this over a point and its neighbors (within the
   /// fit's radius), the fit is taken; degrees in [0, blend_high_deg).
