@@ -279,6 +279,21 @@ def test_wave_share_matches_the_command_line(work):
         detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)
 
 
+def default_and_option(cube, work, cli_args, **option):
+    """remove_texture on the cube at defaults and with `option`; the command
+    line given `cli_args` writes the same normals as the option, and the
+    option leaves the positions as they were (an output-normal option)."""
+    cloud = detexture.read_point_cloud(cube)
+    out = work / "option.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", *cli_args, "-q", "--force")
+    default = detexture.remove_texture(cloud, radius=0.09)
+    changed = detexture.remove_texture(cloud, radius=0.09, **option)
+    assert np.array_equal(detexture.read_point_cloud(out).normals, changed.normals)
+    assert np.array_equal(default.positions, changed.positions)
+    assert not np.array_equal(default.normals, changed.normals)
+    return cloud, default, changed
+
+
 def test_blend_share_matches_the_command_line(cube, work):
     """The blend's gate: on a cloud without waves left the output normals
     take the open window; blend_share_high = 0 keeps the blend's own window,
@@ -287,14 +302,8 @@ def test_blend_share_matches_the_command_line(cube, work):
     assert (d["blend_share_low"], d["blend_share_high"]) == (0.05, 0.1)
     assert d["output_normals_blend_open_low_deg"] == 5.0
     assert d["output_normals_blend_open_high_deg"] == 10.0
-    cloud = detexture.read_point_cloud(cube)
-    out = work / "always.ply"
-    run_cli(cube, "-o", out, "-r", "0.09", "--blend-share-high", "0", "-q", "--force")
-    gated = detexture.remove_texture(cloud, radius=0.09)
-    always = detexture.remove_texture(cloud, radius=0.09, blend_share_high=0.0)
-    assert np.array_equal(detexture.read_point_cloud(out).normals, always.normals)
-    assert np.array_equal(gated.positions, always.positions)
-    assert not np.array_equal(gated.normals, always.normals)
+    cloud, gated, always = default_and_option(
+        cube, work, ["--blend-share-high", "0"], blend_share_high=0.0)
     assert gated.report.normals_blended < always.report.normals_blended
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, blend_share_low=0.3, blend_share_high=0.2)
@@ -308,13 +317,7 @@ def test_fine_fit_matches_the_command_line(cube, work):
     the command line."""
     d = detexture.default_parameters()
     assert (d["output_normals_fine_ratio"], d["output_normals_fine_gamma"]) == (0.5, 2.0)
-    cloud = detexture.read_point_cloud(cube)
-    out = work / "one_scale.ply"
-    run_cli(cube, "-o", out, "-r", "0.09", "--fit-fine-ratio", "0", "-q", "--force")
-    fine = detexture.remove_texture(cloud, radius=0.09)
-    one = detexture.remove_texture(cloud, radius=0.09, output_normals_fine_ratio=0.0)
-    assert np.array_equal(detexture.read_point_cloud(out).normals, one.normals)
-    assert np.array_equal(fine.positions, one.positions)
-    assert not np.array_equal(fine.normals, one.normals)
+    cloud, _, _ = default_and_option(
+        cube, work, ["--fit-fine-ratio", "0"], output_normals_fine_ratio=0.0)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, output_normals_fine_ratio=1.0)
