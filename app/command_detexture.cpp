@@ -519,9 +519,20 @@ int run_detexture(int argc, char** argv) {
              "Fitted output normals: spatial scale of the fit's weights (neighbors within "
              "--solve-radius take part)");
   app.add_option("--fit-range-sigma", params.output_normals.range_sigma,
-                 "Fitted output normals: range scale on 1 - cos of the angle between filtered "
-                 "normals; smaller keeps the fit closer to one side of a crease")
+                 "Fitted output normals: range scale on 1 - cos of the angle between the "
+                 "normals of --fit-range-normals; smaller keeps the fit closer to one side of a "
+                 "crease")
       ->capture_default_str();
+  enum class RangeNormals { Input, Filtered };
+  const std::map<std::string, RangeNormals> range_normal_modes{
+      {"input", RangeNormals::Input}, {"filtered", RangeNormals::Filtered}};
+  RangeNormals range_normals =
+      params.fit_range_input_normals ? RangeNormals::Input : RangeNormals::Filtered;
+  add_choice(app, "--fit-range-normals", range_normals, range_normal_modes,
+             "Fitted output normals: the normals --fit-range-sigma compares, input (those "
+             "that came with the input, which turn where its surface does; the filtered ones "
+             "when the input had none) or filtered (rounded at σs)",
+             "WHICH");
   app.add_option("--fit-fine-ratio", params.output_normals.fine_ratio,
                  "Fitted output normals: a second fit at this fraction of --fit-sigma, taken "
                  "where it departs from the first by more than its noise explains; 0 for none")
@@ -666,6 +677,7 @@ int run_detexture(int argc, char** argv) {
           "--output-normals blended only, not to " +
           name_of(output_normal_modes, output_normals));
     params.fit_normals = output_normals != OutputNormals::Filtered;
+    params.fit_range_input_normals = range_normals == RangeNormals::Input;
     if (output_normals == OutputNormals::Fitted) params.output_normals.blend_high_deg = 0.0;
     params.gaussian.use_subneighborhood = !no_subneighborhood;
     if (no_subneighborhood) params.rolling.use_subneighborhood = false;

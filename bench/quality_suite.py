@@ -269,6 +269,9 @@ DETEXTURE_VARIANTS = [
      "output normals fitted at one scale (σ = 0.3 r) only, without the fine fit where it "
      "departs by more than its noise explains (fit_normals_to_positions.h; the default "
      "before session 17)"),
+    ("filtered-range", ["--fit-range-normals", "filtered"],
+     "the output-normal fit's range weights read from the filtered normals instead of the "
+     "input's (fit_normals_to_positions.h; the default before session 18)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),

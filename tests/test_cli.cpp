@@ -327,7 +327,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--blend-open-high 200",
                            "--fit-fine-ratio 1",
                            "--fit-fine-ratio -0.5",
-                           "--fit-fine-gamma -1"}) {
+                           "--fit-fine-gamma -1",
+                           "--fit-range-normals both"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

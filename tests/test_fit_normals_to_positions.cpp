@@ -263,6 +263,61 @@ TEST(FitNormalsToPositions, RangeWeightKeepsCreasesSharp) {
   EXPECT_GT(worst_blurred, 20.0);
 }
 
+// The range weights read from other normals than the guide (remove_texture
+// passes the input normals): the guide is the exact fold's normals rounded
+// over 0.1 on either side of a 90° crease, as a filter at that scale leaves
+// them. Weighed by the guide's range, the fits near the crease lean across
+// it (the guide turns by under 45° between neighbors there); by the exact
+// normals', each stays on its own face (a neighbor across weighs 0.004, as
+// in RangeWeightKeepsCreasesSharp). Far from the crease, where both agree,
+// the fits are the same.
+TEST(FitNormalsToPositions, RangeNormalsKeepTheFitOnItsFace) {
+  const auto s = test::folded_plane(61, 90.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  Normals rounded = s.N;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (std::size_t k = 0; k < R.count(i); ++k) sum += s.N.row(R.begin(i)[k]);
+    rounded.row(i) = sum.normalized();
+  }
+  FitNormalsToPositionsParams p = params_at(0.04, 0.08);
+  p.fine_ratio = 0.0;
+  const Normals by_guide = fit_normals_to_positions(s.P, rounded, R, p).normals;
+  const Normals by_exact = fit_normals_to_positions(s.P, rounded, s.N, R, p).normals;
+  EXPECT_TRUE(fit_normals_to_positions(s.P, rounded, rounded, R, p).normals == by_guide)
+      << "the guide as its own range normals is the three-argument call";
+  double near_guide = 0.0, near_exact = 0.0, far_gap = 0.0;
+  int near = 0;
+  for (int i = 0; i < s.P.rows(); ++i) {
+    const double x = i / 61 / 60.0;  // the grid's x before folding
+    if (std::abs(x - 0.5) > 0.2) {
+      far_gap = std::max(far_gap, test::angle_deg(by_guide.row(i), by_exact.row(i)));
+      continue;
+    }
+    if (std::abs(x - 0.5) > 0.1) continue;
+    near_guide += test::angle_deg(by_guide.row(i), s.N.row(i));
+    near_exact += test::angle_deg(by_exact.row(i), s.N.row(i));
+    ++near;
+  }
+  near_guide /= near;
+  near_exact /= near;
+  EXPECT_GT(near_guide, 5.0);
+  EXPECT_LT(near_exact, 0.1 * near_guide);
+  EXPECT_LT(far_gap, 1e-4);
+}
+
+// Range normals with zero rows (an input point without a normal): the pairs
+// that touch one are weighed by the guide, as without range normals.
+TEST(FitNormalsToPositions, ZeroRangeNormalsFallBackToTheGuide) {
+  const auto s = test::folded_plane(41, 40.0);
+  const Neighborhoods R = radius_neighborhoods(s.P, {0.1, 0});
+  FitNormalsToPositionsParams p = params_at(0.04, 0.08);
+  const Normals none = Normals::Zero(s.P.rows(), 3);
+  EXPECT_TRUE(fit_normals_to_positions(s.P, s.N, none, R, p).normals ==
+              fit_normals_to_positions(s.P, s.N, R, p).normals);
+  EXPECT_THROW(fit_normals_to_positions(s.P, s.N, s.N.topRows(5), R, p), std::invalid_argument);
+}
+
 // The fine scale on a shallow crease (20°, as between the facets of a
 // low-poly model; the range weight barely separates the faces there). The
 // fit at σ leans across the crease up to about σ from it; the fine fit, σ/2,
@@ -562,6 +617,27 @@ TEST(FitNormalsToPositions, RemoveTextureOpensTheBlendWhereNoWavesAreLeft) {
   EXPECT_NO_THROW(validate(p)) << "blend_share_high 0 blends on every cloud";
   p.blend_share_high = 1.5;
   EXPECT_THROW(validate(p), std::invalid_argument);
+}
+
+// Through remove_texture: the fit's range weights read the input normals when
+// the input has them (a cube with bumps and synth's exact normals), which
+// changes the output normals only; an input without normals, whose normals
+// are estimated, is weighed by the filtered ones either way.
+TEST(FitNormalsToPositions, RemoveTextureRangeReadsTheInputNormals) {
+  SynthParams cp;
+  cp.points = 6000;
+  cp.ground_truth_points = 1;
+  const SynthesizedShape cube = synthesize_shape(cp);
+  RemoveTextureParams p;
+  ASSERT_TRUE(p.fit_range_input_normals);
+  p.threads = 2;
+  const RemoveTextureResult input = remove_texture(cube.positions, cube.normals, p);
+  const RemoveTextureResult estimated = remove_texture(cube.positions, Normals(), p);
+  p.fit_range_input_normals = false;
+  const RemoveTextureResult filtered = remove_texture(cube.positions, cube.normals, p);
+  EXPECT_TRUE(input.positions == filtered.positions);
+  EXPECT_FALSE(input.normals == filtered.normals);
+  EXPECT_TRUE(remove_texture(cube.positions, Normals(), p).normals == estimated.normals);
 }
 
 // Through remove_texture: the output normals (filtered, the paper; fitted;

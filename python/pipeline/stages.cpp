@@ -222,20 +222,23 @@ void bind_stages(py::module_& m) {
       py::arg("is_texture") = py::none(), update_doc.c_str());
 
   static const std::string fit_doc = stage_doc<FitNormalsToPositionsParams>(
-      m, "fit_normals_to_positions", "points, normals, neighborhoods",
+      m, "fit_normals_to_positions", "points, normals, neighborhoods, range_normals=None",
       "normals, kept, blended, open, open_blended, waves", "FitNormalsToPositionsParams");
   m.def(
       "fit_normals_to_positions",
       [](const py::object& points, const py::object& normals, const Neighborhoods& R,
-         const py::kwargs& kwargs) {
+         const py::object& range_normals, const py::kwargs& kwargs) {
         const auto params =
             params_from_kwargs<FitNormalsToPositionsParams>(kwargs, "fit_normals_to_positions");
         validate(params);
         const auto [P, N] = points_and_normals(points, normals, R);
+        // None: the range weights read the normals themselves.
+        const Normals M = range_normals.is_none() ? N : to_matrix3(range_normals, "range_normals");
+        check_rows(P, M, "range_normals");
         FitNormalsToPositionsResult f;
         {
           py::gil_scoped_release release;
-          f = fit_normals_to_positions(P, N, R, params);
+          f = fit_normals_to_positions(P, N, M, R, params);
         }
         py::dict d;
         d["normals"] = to_array(std::move(f.normals));
@@ -252,7 +255,8 @@ void bind_stages(py::module_& m) {
                                                reinterpret_cast<const bool*>(f.waves.data())));
         return d;
       },
-      py::arg("points"), py::arg("normals"), py::arg("neighborhoods"), fit_doc.c_str());
+      py::arg("points"), py::arg("normals"), py::arg("neighborhoods"),
+      py::arg("range_normals") = py::none(), fit_doc.c_str());
 }
 
 }  // namespace detexture::python

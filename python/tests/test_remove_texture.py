@@ -321,3 +321,14 @@ def test_fine_fit_matches_the_command_line(cube, work):
         cube, work, ["--fit-fine-ratio", "0"], output_normals_fine_ratio=0.0)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, output_normals_fine_ratio=1.0)
+
+
+def test_fit_range_normals_match_the_command_line(cube, work):
+    """The output-normal fit's range weights read the input normals by
+    default; fit_range_input_normals = False reads the filtered ones, the
+    same from Python and from the command line, and the positions do not
+    change."""
+    assert detexture.default_parameters()["fit_range_input_normals"] is True
+    cloud, _, _ = default_and_option(
+        cube, work, ["--fit-range-normals", "filtered"], fit_range_input_normals=False)
+    assert len(cloud.normals) == len(cloud.positions)

@@ -122,3 +122,36 @@ def test_fit_normals_to_positions_reads_a_sphere():
     assert f["open"] is None and f["waves"] is None
     with pytest.raises(ValueError, match="spatial scale"):
         detexture.fit_normals_to_positions(P, guide, R, sigma=0.0, radius=0.1)
+
+
+def test_fit_normals_to_positions_takes_range_normals():
+    # A 90° fold whose guiding normals are rounded over the neighborhood (as
+    # a filter leaves them): weighed by the exact face normals, the fits next
+    # to the crease stay on their own face; weighed by the guide, they lean
+    # across. None is the guide itself.
+    side = 41
+    x, y = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side), indexing="ij")
+    x, y = x.ravel(), y.ravel()
+    t = np.radians(90)
+    right = x > 0.5
+    P = np.column_stack([x, y, np.zeros_like(x)])
+    P[right, 0] = 0.5 + (x[right] - 0.5) * np.cos(t)
+    P[right, 2] = (x[right] - 0.5) * np.sin(t)
+    N = np.tile([0.0, 0.0, 1.0], (len(x), 1))
+    N[right] = [-np.sin(t), 0.0, np.cos(t)]
+    R = detexture.radius_neighborhoods(P, 0.1)
+    rounded = np.array([N[R[i]].sum(0) for i in range(len(P))])
+    rounded /= np.linalg.norm(rounded, axis=1)[:, None]
+    kw = dict(sigma=0.04, radius=0.08, blend_high_deg=0, fine_ratio=0)
+    by_guide = detexture.fit_normals_to_positions(P, rounded, R, **kw)["normals"]
+    by_exact = detexture.fit_normals_to_positions(P, rounded, R, range_normals=N, **kw)["normals"]
+    assert np.array_equal(
+        detexture.fit_normals_to_positions(P, rounded, R, range_normals=rounded, **kw)["normals"],
+        by_guide)
+    near = np.abs(x - 0.5) <= 0.1
+
+    def error(a):
+        return np.degrees(np.arccos(np.clip((a[near] * N[near]).sum(1), -1, 1))).mean()
+    assert error(by_guide) > 5.0 and error(by_exact) < 0.1 * error(by_guide)
+    with pytest.raises(ValueError, match="range_normals"):
+        detexture.fit_normals_to_positions(P, rounded, R, range_normals=N[:5], **kw)

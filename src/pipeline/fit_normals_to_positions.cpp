@@ -260,11 +260,19 @@ void validate(const FitNormalsToPositionsParams& p) {
 FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
                                                      const Neighborhoods& R,
                                                      const FitNormalsToPositionsParams& params) {
+  return fit_normals_to_positions(P, normals, normals, R, params);
+}
+
+FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
+                                                     const Normals& range_normals,
+                                                     const Neighborhoods& R,
+                                                     const FitNormalsToPositionsParams& params) {
   validate(params);
   const std::size_t n = R.size();
-  if (static_cast<std::size_t>(P.rows()) != n || normals.rows() != P.rows())
+  if (static_cast<std::size_t>(P.rows()) != n || normals.rows() != P.rows() ||
+      range_normals.rows() != P.rows())
     throw std::invalid_argument(
-        "fit_normals_to_positions: positions, normals and neighborhoods "
+        "fit_normals_to_positions: positions, normals, range normals and neighborhoods "
         "differ in size");
   const double radius_sq = params.radius * params.radius;
   const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma * params.sigma);
@@ -294,13 +302,19 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
       const Eigen::RowVector3d pi = P.row(i);
       const Eigen::RowVector3d ni = normals.row(i);
       if (ni.squaredNorm() == 0.0 || !ni.allFinite()) continue;
+      // The range weights read range_normals where both rows have one.
+      const Eigen::RowVector3d ri = range_normals.row(i);
+      const bool own_range = ri.squaredNorm() != 0.0 && ri.allFinite();
       weights.assign(R.count(i), 0.0);
       if (fine) fine_weights.assign(R.count(i), 0.0);
       for (std::size_t k = 0; k < weights.size(); ++k) {
         const std::uint32_t j = R.begin(i)[k];
         const double d_sq = (P.row(j) - pi).squaredNorm();
         if (d_sq > radius_sq) continue;
-        const double t = 1.0 - ni.dot(normals.row(j));
+        const Eigen::RowVector3d rj = range_normals.row(j);
+        const double t = own_range && rj.squaredNorm() != 0.0 && rj.allFinite()
+                             ? 1.0 - ri.dot(rj)
+                             : 1.0 - ni.dot(normals.row(j));
         const double range = t * t * inv_two_range_sq;
         weights[k] = std::exp(-d_sq * inv_two_sigma_sq - range);
         if (fine) fine_weights[k] = std::exp(-d_sq * inv_two_fine_sq - range);

@@ -478,7 +478,11 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       FitNormalsToPositionsParams fp = params.output_normals;
       fp.sigma = params.fit_sigma.resolve(rep.diagonal, rep.radius);
       fp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
-      fit = fit_normals_to_positions(result.positions, filtered, R, fp);
+      // Estimated normals are smoothed like the filtered ones and noisier:
+      // only normals that came with the input weigh the fit's range.
+      fit = params.fit_range_input_normals && !rep.normals_estimated
+                ? fit_normals_to_positions(result.positions, filtered, result.input_normals, R, fp)
+                : fit_normals_to_positions(result.positions, filtered, R, fp);
       rep.normals_not_fitted = fit.kept;
       rep.normals_blended = fit.blended;
     }

@@ -107,6 +107,19 @@
 // looks like no noise and the fine fit follows small remnants); the unseen
 // cases −0.6%.
 //
+// The range normals (session 18). The range weight above reads n, which
+// the filters round at σs: across a facet's edge, a seam or the rim of a
+// thin part, n turns gradually, so neighbors on the other side weigh
+// nearly as much, and the fit leans across. Normals that describe the input
+// surface itself (those that came with it: a mesh's, a scanner's) turn
+// where the surface does. So the range weight can read other normals m
+// (remove_texture passes the input normals when the input had them,
+// RemoveTextureParams::fit_range_input_normals): w_ij's second factor
+// becomes exp(-(1 - m_i·m_j)²/(2σr²)), pairs where m_i or m_j is zero
+// keeping n's. Everything else (the turn limit, the sign, the blend) still
+// reads n. Measured on both suites and 60 unseen cases
+// (bench/quality_real_notes.md, session 18).
+//
 // A fit is not taken, and n_i kept (and counted), when fewer than 3
 // neighbors weigh in, when the fit is degenerate (collinear neighbors, see
 // kMinSpreadRatio), or when it turns more than max_turn_deg from n_i (a part
@@ -129,7 +142,8 @@ struct FitNormalsToPositionsParams {
   /// ρ: neighbors of R_i farther than this (in the updated positions) are
   /// left out; > 0. RemoveTextureParams fills it with the solve radius (0.5 r).
   double radius = 0.0;
-  /// σr: range scale on 1 - n_i·n_j of the filtered normals; > 0.
+  /// σr: range scale on 1 - n_i·n_j of the filtered normals (or of the
+  /// range normals m, see above); > 0.
   /// 0.3 weighs a neighbor turned by 30° at 0.9, by 60° at 0.25, by 90° at 0.004.
   double range_sigma = 0.3;
   /// A fit that turns farther than this from the filtered normal is not
@@ -206,6 +220,14 @@ void validate(const FitNormalsToPositionsParams& params);
 /// Throws std::invalid_argument on bad parameters or mismatched sizes.
 /// Deterministic for any thread count.
 FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
+                                                     const Neighborhoods& R,
+                                                     const FitNormalsToPositionsParams& params);
+
+/// The same with the range weights read from range_normals (see "The range
+/// normals" above).
+/// range_normals  #P by 3 unit normals m, signed like n (zero rows: n's weight)
+FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const Normals& normals,
+                                                     const Normals& range_normals,
                                                      const Neighborhoods& R,
                                                      const FitNormalsToPositionsParams& params);
 

@@ -180,6 +180,18 @@ struct RemoveTextureParams {
   FitNormalsToPositionsParams output_normals;
   /// σ of the output-normal fit (fit_normals_to_positions.h).
   Length fit_sigma{0.3, Length::Unit::Radius};
+  /// The output-normal fit's range weights read the input normals, where the
+  /// input had them, instead of the filtered ones (fit_normals_to_positions.h,
+  /// range normals): the filtered normals round the facets, seams and rims
+  /// of the shape at σs, so the fit leaned across them. Estimated normals
+  /// (an input without normals) are PCA fits that round the same way and
+  /// carry the noise: measured no better there, the filtered ones weigh the
+  /// fit. Measured (bench/quality_real_notes.md, session 18), normal error:
+  /// the spider -3.1%, the duck -2.0%, the person -1.5% (4.94° -> 4.87°);
+  /// the blob +1.4%, the noisy ellipsoid +0.9%, the multiscale sphere
+  /// +0.9%, the noisy cube +0.7%; 30 unseen dense reliefs -1.6%. false
+  /// weighs by the filtered normals (before session 18).
+  bool fit_range_input_normals = true;
   /// Waves left, second pass (clouds, with fit_normals and the blend).
   /// The output-normal fit flags the surface points where waves or grooves
   /// stayed in the positions (fit_normals_to_positions.h, waves): their
