@@ -225,6 +225,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
+  add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
   add("  \"waves_flagged\": %zu,\n  \"waves_released\": %zu,\n", r.waves_flagged, r.waves_released);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
       r.ransac_mean_iterations);
@@ -540,6 +541,15 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--fit-fine-gamma", params.output_normals.fine_gamma,
                  "Fitted output normals: the fine fit is taken from a departure of this many "
                  "times its noise angle on (fully from one more)")
+      ->capture_default_str();
+  app.add_option("--keep-input-low", params.keep_input.low,
+                 "Output normals: where no point within --solve-radius moved by more than this "
+                 "multiple of λ, the input normal is kept (the output surface is the input's "
+                 "there)")
+      ->capture_default_str();
+  app.add_option("--keep-input-high", params.keep_input.high,
+                 "Output normals: from a move of this multiple of λ on, the fitted normal "
+                 "stays (linearly between); 0 keeps no input normal")
       ->capture_default_str();
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "

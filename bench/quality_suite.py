@@ -269,6 +269,9 @@ DETEXTURE_VARIANTS = [
      "output normals fitted at one scale (σ = 0.3 r) only, without the fine fit where it "
      "departs by more than its noise explains (fit_normals_to_positions.h; the default "
      "before session 17)"),
+    ("no-kept-input", ["--keep-input-high", "0"],
+     "no input normals kept where nothing near the point moved: the fit and its blend "
+     "everywhere (keep_input_normals.h; the default before session 18)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

@@ -72,7 +72,8 @@ def parse(path, docs, members):
             struct, struct_depth, previous_member = None, None, None
 
 
-FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface_normals"}
+FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface_normals",
+                     "keep_input.radius", "keep_input.lambda"}
 # Parameter structs whose members become Python keywords: remove_texture's,
 # and those of the stages bound on their own.
 TABLES = ["RemoveTextureParams", "DetectTextureParams", "FilterNormalsGaussianParams",

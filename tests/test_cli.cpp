@@ -194,9 +194,11 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
         << mode << ": " << stderr_;
   // A blend window closed to almost nothing keeps the filtered normals
   // nearly everywhere, on every cloud (--blend-share-high 0: the gate would
-  // open the window on this one, which has no waves).
+  // open the window on this one, which has no waves; and no input normals
+  // kept where nothing moved, which would replace some).
   const std::string narrow =
-      " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0 --blend-share-high 0";
+      " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0 --blend-share-high 0"
+      " --keep-input-high 0";
   ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
   const PointCloud d = read_point_cloud(path("default.ply")),
                    b = read_point_cloud(path("blended.ply")),
@@ -217,6 +219,7 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   const std::string json((std::istreambuf_iterator<char>(stats)), {});
   EXPECT_NE(json.find("\"normals_not_fitted\": "), std::string::npos) << json;
   EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"input_normals_kept\": "), std::string::npos) << json;
 }
 
 // The number after `key` in `text` (a --stats file), -1 if key is absent.
@@ -328,7 +331,9 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--fit-fine-ratio 1",
                            "--fit-fine-ratio -0.5",
                            "--fit-fine-gamma -1",
-                           "--fit-range-normals both"}) {
+                           "--fit-range-normals both",
+                           "--keep-input-high -1",
+                           "--keep-input-low 0.3"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

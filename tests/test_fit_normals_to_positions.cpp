@@ -538,6 +538,9 @@ RemoveTextureParams wavy_torus_params() {
 TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   const SynthesizedShape torus = wavy_torus();
   RemoveTextureParams p = wavy_torus_params();
+  // The fit's normals alone: the input normals kept afterwards follow the
+  // final positions (keep_input_normals.h), which the second pass moves.
+  p.keep_input.high = 0.0;
   const RemoveTextureResult on = remove_texture(torus.positions, Normals(), p);
   p.wave_share_low = 1.0;
   const RemoveTextureResult off = remove_texture(torus.positions, Normals(), p);
@@ -648,6 +651,7 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   const auto s = sphere_with_bumps();
   RemoveTextureParams p;
   ASSERT_TRUE(p.fit_normals) << "blended output normals are the default";
+  p.keep_input.high = 0.0;  // the fit and its blend alone (test_keep_input_normals.cpp)
   p.radius = Length{0.15, Length::Unit::Absolute};
   p.threads = 1;
   const RemoveTextureResult blended = remove_texture(s.P, Normals(), p);

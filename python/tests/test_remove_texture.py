@@ -274,7 +274,12 @@ def test_wave_share_matches_the_command_line(work):
     assert on.report.waves_flagged == off.report.waves_flagged
     assert np.array_equal(detexture.read_point_cloud(out).positions, off.positions)
     assert not np.array_equal(on.positions, off.positions)
-    assert np.array_equal(on.normals, off.normals)
+    # The fit's normals are the first pass's; the input normals kept where
+    # nothing moved follow the final positions, so compare without them.
+    fit_on = detexture.remove_texture(cloud, radius=0.06, keep_input_high=0.0)
+    fit_off = detexture.remove_texture(cloud, radius=0.06, keep_input_high=0.0,
+                                       wave_share_low=1.0)
+    assert np.array_equal(fit_on.normals, fit_off.normals)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)
 
@@ -332,3 +337,17 @@ def test_fit_range_normals_match_the_command_line(cube, work):
     cloud, _, _ = default_and_option(
         cube, work, ["--fit-range-normals", "filtered"], fit_range_input_normals=False)
     assert len(cloud.normals) == len(cloud.positions)
+
+
+def test_keep_input_normals_match_the_command_line(cube, work):
+    """Input normals are kept where nothing near the point moved (low 0.05,
+    high 0.2, in units of λ); keep_input_high = 0 keeps none, the same from
+    Python and from the command line, and the positions do not change."""
+    d = detexture.default_parameters()
+    assert (d["keep_input_low"], d["keep_input_high"]) == (0.05, 0.2)
+    assert "keep_input_radius" not in d and "keep_input_lambda" not in d
+    cloud, kept, fitted = default_and_option(
+        cube, work, ["--keep-input-high", "0"], keep_input_high=0.0)
+    assert kept.report.input_normals_kept > 0 and fitted.report.input_normals_kept == 0
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_low=0.3)

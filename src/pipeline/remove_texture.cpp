@@ -148,6 +148,10 @@ void validate(const RemoveTextureParams& p) {
   fit.sigma = 1.0;
   fit.radius = 1.0;
   validate(fit);
+  KeepInputNormalsParams keep = p.keep_input;
+  keep.radius = 1.0;
+  keep.lambda = 1.0;
+  validate(keep);
 }
 
 RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
@@ -533,6 +537,16 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       }
     }
     filtered = std::move(fit.normals);
+    if (params.keep_input.high > 0.0) {
+      StageClock clock(observer, rep, "keep input normals");
+      KeepInputNormalsParams kp = params.keep_input;
+      kp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
+      kp.lambda = rep.lambda;
+      KeepInputNormalsResult k = keep_input_normals(P, result.positions, result.input_normals,
+                                                    filtered, result.is_texture, R, kp);
+      rep.input_normals_kept = k.kept;
+      filtered = std::move(k.normals);
+    }
   }
   result.normals = std::move(filtered);
   result.texture_height.resize(static_cast<Eigen::Index>(n));

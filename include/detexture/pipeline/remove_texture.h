@@ -26,6 +26,7 @@
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/fit_normals_to_positions.h"
+#include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/repair_folds.h"
 #include "detexture/pipeline/update_positions.h"
 #include "detexture/threads.h"
@@ -192,6 +193,16 @@ struct RemoveTextureParams {
   /// +0.9%, the noisy cube +0.7%; 30 unseen dense reliefs -1.6%. false
   /// weighs by the filtered normals (before session 18).
   bool fit_range_input_normals = true;
+  /// Input normals kept where the output surface is the input surface
+  /// (keep_input_normals.h; with fit_normals): where no point within the
+  /// solve radius moved by more than low λ the input normal is taken, from
+  /// high λ the fitted one; its radius and λ are filled from above.
+  /// Measured (bench/quality_real_notes.md, session 18), normal error: the
+  /// cube with bumps -9.7%, the blob -6.6%, the saddle -3.6%, the person
+  /// -3.1%; the torus +0.3% the most; with the normals estimated, -6.3% to
+  /// +0.3%; the noisy cases unchanged (their points move). high 0 turns it
+  /// off (before session 18).
+  KeepInputNormalsParams keep_input;
   /// Waves left, second pass (clouds, with fit_normals and the blend).
   /// The output-normal fit flags the surface points where waves or grooves
   /// stayed in the positions (fit_normals_to_positions.h, waves): their
@@ -324,6 +335,9 @@ struct RemoveTextureReport {
   /// Tiled runs sum this and normals_not_fitted over the tiles' runs, halo
   /// points included.
   std::size_t normals_blended = 0;
+  /// Output normals that took the input normal, fully or in part, where
+  /// nothing near the point moved (keep_input_normals.h); tiled runs sum it.
+  std::size_t input_normals_kept = 0;
   /// Surface points flagged as lying where waves or grooves stayed in the
   /// positions (fit_normals_to_positions.h, waves), and those whose anchors
   /// the second pass lowered (wave_share_low; 0 when it did not run).

@@ -1,0 +1,71 @@
+#include "detexture/pipeline/keep_input_normals.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace detexture {
+
+void validate(const KeepInputNormalsParams& p) {
+  if (!(p.high >= 0.0) || !std::isfinite(p.high))
+    throw std::invalid_argument(
+        "the move up to which input normals are kept (--keep-input-high) must be >= 0, got " +
+        number_text(p.high));
+  if (p.high > 0.0 && !(p.low >= 0.0 && p.low < p.high))
+    throw std::invalid_argument(
+        "the move below which input normals are kept fully (--keep-input-low, " +
+        number_text(p.low) + ") must be >= 0 and below --keep-input-high (" + number_text(p.high) +
+        ")");
+  if (!(p.radius > 0.0) || !std::isfinite(p.radius))
+    throw std::invalid_argument("keep_input_normals: the radius must be positive, got " +
+                                number_text(p.radius));
+  if (!(p.lambda > 0.0) || !std::isfinite(p.lambda))
+    throw std::invalid_argument("keep_input_normals: λ must be positive, got " +
+                                number_text(p.lambda));
+}
+
+KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& updated,
+                                          const Normals& input_normals, const Normals& normals,
+                                          const std::vector<std::uint8_t>& is_texture,
+                                          const Neighborhoods& R,
+                                          const KeepInputNormalsParams& params) {
+  validate(params);
+  const std::size_t n = R.size();
+  if (static_cast<std::size_t>(P.rows()) != n || updated.rows() != P.rows() ||
+      input_normals.rows() != P.rows() || normals.rows() != P.rows() ||
+      (!is_texture.empty() && is_texture.size() != n))
+    throw std::invalid_argument(
+        "keep_input_normals: positions, normals, labels and neighborhoods differ in size");
+  KeepInputNormalsResult out;
+  out.normals = normals;
+  if (params.high == 0.0) return out;
+  const double low = params.low * params.lambda, high = params.high * params.lambda;
+  const double radius_sq = params.radius * params.radius;
+  std::vector<double> moved(n);
+  for (std::size_t i = 0; i < n; ++i) moved[i] = (updated.row(i) - P.row(i)).norm();
+  std::size_t kept = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!is_texture.empty() && is_texture[i]) continue;
+    const Eigen::RowVector3d given = input_normals.row(i);
+    const Eigen::RowVector3d ni = normals.row(i);
+    if (given.squaredNorm() == 0.0 || !given.allFinite() || ni.squaredNorm() == 0.0) continue;
+    double m = moved[i];
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m < high; ++nb)
+      if ((P.row(*nb) - P.row(i)).squaredNorm() <= radius_sq) m = std::max(m, moved[*nb]);
+    const double w = std::clamp((high - m) / (high - low), 0.0, 1.0);
+    if (w == 0.0) continue;
+    const Eigen::RowVector3d signed_given =
+        (given.dot(ni) < 0.0 ? Eigen::RowVector3d(-given) : given).normalized();
+    const Eigen::RowVector3d mixed = w * signed_given + (1.0 - w) * ni;
+    const double norm = mixed.norm();
+    if (!(norm > 0.0)) continue;
+    out.normals.row(i) = mixed / norm;
+    ++kept;
+  }
+  out.kept = kept;
+  return out;
+}
+
+}  // namespace detexture
