@@ -77,7 +77,8 @@ FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface
 # Parameter structs whose members become Python keywords: remove_texture's,
 # and those of the stages bound on their own.
 TABLES = ["RemoveTextureParams", "DetectTextureParams", "FilterNormalsGaussianParams",
-          "FilterNormalsRollingParams", "UpdatePositionsParams", "FitNormalsToPositionsParams"]
+          "FilterNormalsRollingParams", "UpdatePositionsParams", "FitNormalsToPositionsParams",
+          "KeepInputNormalsParams"]
 
 
 def param_fields(members, struct, path=(), top=None):

@@ -1,8 +1,8 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), fit_normals_to_positions (output
-// normals). Keywords
+// update_positions (Eqs. 9-10), fit_normals_to_positions and
+// keep_input_normals (output normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
@@ -15,6 +15,7 @@
 #include "detexture/pipeline/filter_normals_gaussian.h"
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/fit_normals_to_positions.h"
+#include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/update_positions.h"
 #include "module.h"
 #include "params.h"
@@ -257,6 +258,39 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("normals"), py::arg("neighborhoods"),
       py::arg("range_normals") = py::none(), fit_doc.c_str());
+
+  static const std::string keep_doc = stage_doc<KeepInputNormalsParams>(
+      m, "keep_input_normals",
+      "points, updated, input_normals, normals, neighborhoods, is_texture=None", "normals, kept",
+      "KeepInputNormalsParams");
+  m.def(
+      "keep_input_normals",
+      [](const py::object& points, const py::object& updated, const py::object& input_normals,
+         const py::object& normals, const Neighborhoods& R, const py::object& is_texture,
+         const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<KeepInputNormalsParams>(kwargs, "keep_input_normals");
+        validate(params);
+        const auto [P, N] = points_and_normals(points, normals, R);
+        const Positions Q = to_matrix3(updated, "updated");
+        const Normals G = to_matrix3(input_normals, "input_normals");
+        check_rows(P, Q, "updated");
+        check_rows(P, G, "input_normals");
+        const std::vector<std::uint8_t> t =
+            is_texture.is_none() ? std::vector<std::uint8_t>()
+                                 : to_vector<std::uint8_t>(is_texture, "is_texture", R.size());
+        KeepInputNormalsResult k;
+        {
+          py::gil_scoped_release release;
+          k = keep_input_normals(P, Q, G, N, t, R, params);
+        }
+        py::dict d;
+        d["normals"] = to_array(std::move(k.normals));
+        d["kept"] = k.kept;
+        return d;
+      },
+      py::arg("points"), py::arg("updated"), py::arg("input_normals"), py::arg("normals"),
+      py::arg("neighborhoods"), py::arg("is_texture") = py::none(), keep_doc.c_str());
 }
 
 }  // namespace detexture::python

@@ -155,3 +155,27 @@ def test_fit_normals_to_positions_takes_range_normals():
     assert error(by_guide) > 5.0 and error(by_exact) < 0.1 * error(by_guide)
     with pytest.raises(ValueError, match="range_normals"):
         detexture.fit_normals_to_positions(P, rounded, R, range_normals=N[:5], **kw)
+
+
+def test_keep_input_normals_where_nothing_moved():
+    # A flat grid whose centre point moved by 1: points farther than the
+    # radius from it take their input normal, the others keep the output
+    # normal; texture points keep it too.
+    side = 21
+    x, y = np.meshgrid(np.linspace(0, 1, side), np.linspace(0, 1, side), indexing="ij")
+    P = np.column_stack([x.ravel(), y.ravel(), np.zeros(side * side)])
+    up = np.tile([0.0, 0.0, 1.0], (len(P), 1))
+    tilted = np.tile([0.0, np.sin(0.2), np.cos(0.2)], (len(P), 1))
+    moved = P.copy()
+    centre = 10 * side + 10
+    moved[centre, 2] += 1.0
+    R = detexture.radius_neighborhoods(P, 0.12)
+    texture = np.zeros(len(P), dtype=bool)
+    texture[0] = True
+    k = detexture.keep_input_normals(P, moved, up, tilted, R, texture, radius=0.11, lambda_=0.01)
+    near = np.linalg.norm(P - P[centre], axis=1) <= 0.11
+    far = ~near & ~texture
+    assert np.allclose(k["normals"][far], up[far]) and k["kept"] == far.sum()
+    assert np.array_equal(k["normals"][near | texture], tilted[near | texture])
+    with pytest.raises(ValueError, match="keep-input"):
+        detexture.keep_input_normals(P, moved, up, tilted, R, radius=0.11, low=0.5, lambda_=0.01)
