@@ -243,6 +243,28 @@ TEST(FitNormalsToPositions, SignFollowsTheGuide) {
   for (int i = 0; i < s.P.rows(); ++i) EXPECT_LT(fit.normals.row(i).dot(s.N.row(i)), -0.99);
 }
 
+// On test::folded_plane(side, ·): the mean angle between `a` and `b` over
+// the points whose grid x (before folding) is within `near` of the crease,
+// and the largest angle over those farther than `far`.
+struct CreaseAngles {
+  double near_mean = 0.0;
+  double far_worst = 0.0;
+};
+CreaseAngles crease_angles(const Normals& a, const Normals& b, int side, double near, double far) {
+  CreaseAngles c;
+  int count = 0;
+  for (int i = 0; i < a.rows(); ++i) {
+    const double from_crease = std::abs(i / side / (side - 1.0) - 0.5);
+    const double angle = test::angle_deg(a.row(i), b.row(i));
+    if (from_crease > far) c.far_worst = std::max(c.far_worst, angle);
+    if (from_crease > near) continue;
+    c.near_mean += angle;
+    ++count;
+  }
+  c.near_mean /= count;
+  return c;
+}
+
 // A 90° crease with exact face normals as the guide: the range weight keeps
 // each fit on its own face, up to the crease line, within 1°; without it (σr huge) the
 // points next to the crease fit a plane across both faces.
@@ -286,21 +308,9 @@ TEST(FitNormalsToPositions, RangeNormalsKeepTheFitOnItsFace) {
   const Normals by_exact = fit_normals_to_positions(s.P, rounded, s.N, R, p).normals;
   EXPECT_TRUE(fit_normals_to_positions(s.P, rounded, rounded, R, p).normals == by_guide)
       << "the guide as its own range normals is the three-argument call";
-  double near_guide = 0.0, near_exact = 0.0, far_gap = 0.0;
-  int near = 0;
-  for (int i = 0; i < s.P.rows(); ++i) {
-    const double x = i / 61 / 60.0;  // the grid's x before folding
-    if (std::abs(x - 0.5) > 0.2) {
-      far_gap = std::max(far_gap, test::angle_deg(by_guide.row(i), by_exact.row(i)));
-      continue;
-    }
-    if (std::abs(x - 0.5) > 0.1) continue;
-    near_guide += test::angle_deg(by_guide.row(i), s.N.row(i));
-    near_exact += test::angle_deg(by_exact.row(i), s.N.row(i));
-    ++near;
-  }
-  near_guide /= near;
-  near_exact /= near;
+  const double near_guide = crease_angles(by_guide, s.N, 61, 0.1, 0.2).near_mean;
+  const double near_exact = crease_angles(by_exact, s.N, 61, 0.1, 0.2).near_mean;
+  const double far_gap = crease_angles(by_guide, by_exact, 61, 0.1, 0.2).far_worst;
   EXPECT_GT(near_guide, 5.0);
   EXPECT_LT(near_exact, 0.1 * near_guide);
   EXPECT_LT(far_gap, 1e-4);
@@ -331,21 +341,9 @@ TEST(FitNormalsToPositions, FineScaleFollowsAShallowCrease) {
   const FitNormalsToPositionsResult fine = fit_normals_to_positions(s.P, s.N, R, p);
   p.fine_ratio = 0.0;
   const FitNormalsToPositionsResult one = fit_normals_to_positions(s.P, s.N, R, p);
-  double near_fine = 0.0, near_one = 0.0, far_worst = 0.0;
-  int near = 0;
-  for (int i = 0; i < s.P.rows(); ++i) {
-    const double x = i / 81 / 80.0;  // the grid's x before folding
-    const double e_fine = test::angle_deg(fine.normals.row(i), s.N.row(i));
-    if (std::abs(x - 0.5) > 0.1) {
-      far_worst = std::max(far_worst, e_fine);
-      continue;
-    }
-    near_fine += e_fine;
-    near_one += test::angle_deg(one.normals.row(i), s.N.row(i));
-    ++near;
-  }
-  near_fine /= near;
-  near_one /= near;
+  const CreaseAngles fine_angles = crease_angles(fine.normals, s.N, 81, 0.1, 0.1);
+  const double near_fine = fine_angles.near_mean, far_worst = fine_angles.far_worst;
+  const double near_one = crease_angles(one.normals, s.N, 81, 0.1, 0.1).near_mean;
   EXPECT_GT(near_one, 1.0);
   EXPECT_LT(near_fine, 0.7 * near_one);
   EXPECT_LT(far_worst, 1e-6);
