@@ -274,6 +274,10 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
     throw std::invalid_argument(
         "fit_normals_to_positions: positions, normals, range normals and neighborhoods "
         "differ in size");
+  // Rows of range_normals that weigh: a pair uses them when both have one.
+  std::vector<std::uint8_t> has_range(n);
+  for (std::size_t i = 0; i < n; ++i)
+    has_range[i] = range_normals.row(i).squaredNorm() != 0.0 && range_normals.row(i).allFinite();
   const double radius_sq = params.radius * params.radius;
   const double inv_two_sigma_sq = 1.0 / (2.0 * params.sigma * params.sigma);
   const double inv_two_range_sq = 1.0 / (2.0 * params.range_sigma * params.range_sigma);
@@ -302,19 +306,15 @@ FitNormalsToPositionsResult fit_normals_to_positions(const Positions& P, const N
       const Eigen::RowVector3d pi = P.row(i);
       const Eigen::RowVector3d ni = normals.row(i);
       if (ni.squaredNorm() == 0.0 || !ni.allFinite()) continue;
-      // The range weights read range_normals where both rows have one.
       const Eigen::RowVector3d ri = range_normals.row(i);
-      const bool own_range = ri.squaredNorm() != 0.0 && ri.allFinite();
       weights.assign(R.count(i), 0.0);
       if (fine) fine_weights.assign(R.count(i), 0.0);
       for (std::size_t k = 0; k < weights.size(); ++k) {
         const std::uint32_t j = R.begin(i)[k];
         const double d_sq = (P.row(j) - pi).squaredNorm();
         if (d_sq > radius_sq) continue;
-        const Eigen::RowVector3d rj = range_normals.row(j);
-        const double t = own_range && rj.squaredNorm() != 0.0 && rj.allFinite()
-                             ? 1.0 - ri.dot(rj)
-                             : 1.0 - ni.dot(normals.row(j));
+        const double t = has_range[i] && has_range[j] ? 1.0 - ri.dot(range_normals.row(j))
+                                                      : 1.0 - ni.dot(normals.row(j));
         const double range = t * t * inv_two_range_sq;
         weights[k] = std::exp(-d_sq * inv_two_sigma_sq - range);
         if (fine) fine_weights[k] = std::exp(-d_sq * inv_two_fine_sq - range);
