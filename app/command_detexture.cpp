@@ -223,6 +223,8 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.mesh_path_neighbors);
   add("  \"texture_height\": %.6g,\n  \"max_move\": %.6g,\n  \"moves_limited\": %zu,\n",
       r.texture_height, r.max_move, r.moves_limited);
+  add("  \"relief_lean\": %.6g,\n  \"counter_moves_limited\": %zu,\n", r.relief_lean,
+      r.counter_moves_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
@@ -386,6 +388,18 @@ int run_detexture(int argc, char** argv) {
                  "No point moves farther than this multiple of the texture height found, plus "
                  "λ; 0 for no limit (the paper)")
       ->capture_default_str();
+  app.add_option("--counter-move-limit", params.counter_moves.limit,
+                 "Where the relief was raised (the texture points' large moves go mostly "
+                 "inward), no point moves outward by more than this multiple of the texture "
+                 "height: no fillet bridging a concave junction; 0 for no limit")
+      ->capture_default_str();
+  app.add_option("--counter-move-lean", params.counter_moves.min_lean,
+                 "The relief counts as raised (or engraved) when the lean of the texture "
+                 "points' large moves, (inward - outward) / all, reaches this, in (0, 1]")
+      ->capture_default_str();
+  app.add_flag("--counter-move-engraved", params.counter_moves.engraved,
+               "Also limit inward moves where the relief leans engraved (grooves; dense "
+               "scales, which the update lifts to their tops)");
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
                "with the point (across a thin part)");
@@ -893,6 +907,9 @@ int run_detexture(int argc, char** argv) {
       if (r.moves_limited > 0)
         std::fprintf(stderr, "  moves cut to the limit %g (texture height %g): %zu points\n",
                      r.max_move, r.texture_height, r.moves_limited);
+      if (r.counter_moves_limited > 0)
+        std::fprintf(stderr, "  moves against the relief cut (lean %.2f): %zu points\n",
+                     r.relief_lean, r.counter_moves_limited);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());

@@ -245,7 +245,8 @@ DETEXTURE_VARIANTS = [
     ("flat-shared", ["--surface", "plane", "--sheet-angle", "180", "--move-limit", "0",
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
                      "--thin-part-radius", "1", "--guidance", "patch-shift",
-                     "--surface-split-angle", "180", "--output-normals", "filtered"],
+                     "--surface-split-angle", "180", "--output-normals", "filtered",
+                     "--counter-move-limit", "0"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("full-anchors", ["--anchor-height", "0", "--anchor-angle", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
@@ -275,6 +276,13 @@ DETEXTURE_VARIANTS = [
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),
+    ("no-counter-limit", ["--counter-move-limit", "0"],
+     "no limit on moves against the relief: points at concave junctions carried outward past "
+     "raised relief by the rounded normals (limit_counter_moves.h; the default before session "
+     "19)"),
+    ("counter-engraved", ["--counter-move-engraved"],
+     "moves against the relief also limited where it leans engraved: inward moves under "
+     "grooves and scales (limit_counter_moves.h; an option)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),

@@ -220,6 +220,8 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   EXPECT_NE(json.find("\"normals_not_fitted\": "), std::string::npos) << json;
   EXPECT_NE(json.find("\"normals_blended\": "), std::string::npos) << json;
   EXPECT_NE(json.find("\"input_normals_kept\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"relief_lean\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"counter_moves_limited\": "), std::string::npos) << json;
 }
 
 // The number after `key` in `text` (a --stats file), -1 if key is absent.
@@ -333,7 +335,10 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--fit-fine-gamma -1",
                            "--fit-range-normals both",
                            "--keep-input-high -1",
-                           "--keep-input-low 0.3"}) {
+                           "--keep-input-low 0.3",
+                           "--counter-move-limit -1",
+                           "--counter-move-lean 0",
+                           "--counter-move-lean 1.5"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

@@ -1,8 +1,8 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), fit_normals_to_positions and
-// keep_input_normals (output normals). Keywords
+// update_positions (Eqs. 9-10), limit_counter_moves (after the update),
+// fit_normals_to_positions and keep_input_normals (output normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
@@ -16,6 +16,7 @@
 #include "detexture/pipeline/filter_normals_rolling.h"
 #include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/keep_input_normals.h"
+#include "detexture/pipeline/limit_counter_moves.h"
 #include "detexture/pipeline/update_positions.h"
 #include "module.h"
 #include "params.h"
@@ -291,6 +292,38 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("updated"), py::arg("input_normals"), py::arg("normals"),
       py::arg("neighborhoods"), py::arg("is_texture") = py::none(), keep_doc.c_str());
+
+  static const std::string counter_doc = stage_doc<LimitCounterMovesParams>(
+      m, "limit_counter_moves", "points, updated, normals, is_texture",
+      "positions, lean, side, limited", "LimitCounterMovesParams");
+  m.def(
+      "limit_counter_moves",
+      [](const py::object& points, const py::object& updated, const py::object& normals,
+         const py::object& is_texture, const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<LimitCounterMovesParams>(kwargs, "limit_counter_moves");
+        validate(params);
+        const Positions P = to_matrix3(points, "points");
+        const Positions Q = to_matrix3(updated, "updated");
+        const Normals N = to_matrix3(normals, "normals");
+        check_rows(P, Q, "updated");
+        check_rows(P, N, "normals");
+        const std::vector<std::uint8_t> t =
+            to_vector<std::uint8_t>(is_texture, "is_texture", static_cast<std::size_t>(P.rows()));
+        LimitCounterMovesResult c;
+        {
+          py::gil_scoped_release release;
+          c = limit_counter_moves(P, Q, N, t, params);
+        }
+        py::dict d;
+        d["positions"] = to_array(std::move(c.positions));
+        d["lean"] = c.lean;
+        d["side"] = c.side;
+        d["limited"] = c.limited;
+        return d;
+      },
+      py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("is_texture"),
+      counter_doc.c_str());
 }
 
 }  // namespace detexture::python

@@ -351,3 +351,36 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert kept.report.input_normals_kept > 0 and fitted.report.input_normals_kept == 0
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, keep_input_low=0.3)
+
+
+def test_counter_moves_match_the_command_line(work):
+    """Under raised relief no point moves outward by more than a quarter of
+    the texture height: a dent among raised bumps is filled by that much only
+    (counter_moves_limit = 0 fills it), the same from Python and from the
+    command line."""
+    d = detexture.default_parameters()
+    assert (d["counter_moves_limit"], d["counter_moves_min_lean"]) == (0.25, 0.35)
+    assert d["counter_moves_count_from"] == 0.5 and d["counter_moves_engraved"] is False
+    assert "counter_moves_height" not in d
+    u = np.linspace(0.0, 1.0, 61)
+    x, y = (a.ravel() for a in np.meshgrid(u, u, indexing="ij"))
+    du = x - (np.floor(x / 0.2) + 0.5) * 0.2
+    dv = y - (np.floor(y / 0.2) + 0.5) * 0.2
+    dent = (x - 0.6) ** 2 + (y - 0.6) ** 2
+    z = 0.03 * (np.exp(-(du ** 2 + dv ** 2) / (2 * 0.03 ** 2)) - np.exp(-dent / (2 * 0.03 ** 2)))
+    cloud = detexture.PointCloud(np.column_stack([x, y, z]), np.tile([0.0, 0.0, 1.0], (len(x), 1)))
+    path = work / "dent.ply"
+    detexture.write_point_cloud(path, cloud)
+    limited = detexture.remove_texture(cloud, radius=0.1)
+    free = detexture.remove_texture(cloud, radius=0.1, counter_moves_limit=0.0)
+    h = limited.report.texture_height
+    assert limited.report.relief_lean >= 0.35 and limited.report.counter_moves_limited > 0
+    assert free.report.counter_moves_limited == 0
+    assert (limited.positions[:, 2] - z).max() <= 0.25 * h + 1e-12
+    i = np.argmin(dent)
+    assert limited.positions[i, 2] < -0.015 < -0.0075 < free.positions[i, 2]
+    out = work / "dent_free.ply"
+    run_cli(path, "-o", out, "-r", "0.1", "--counter-move-limit", "0", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, free.positions)
+    with pytest.raises(ValueError, match="counter-move-lean"):
+        detexture.remove_texture(cloud, radius=0.1, counter_moves_min_lean=0.0)

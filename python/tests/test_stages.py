@@ -179,3 +179,24 @@ def test_keep_input_normals_where_nothing_moved():
     assert np.array_equal(k["normals"][near | texture], tilted[near | texture])
     with pytest.raises(ValueError, match="keep-input"):
         detexture.keep_input_normals(P, moved, up, tilted, R, radius=0.11, low=0.5, lambda_=0.01)
+
+
+def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
+    # Ten texture points went down by 1 (raised relief, h = 1); of the
+    # others one rose by 0.8 and is cut to 0.25, one by 0.1 and stays.
+    P = np.zeros((20, 3))
+    P[:, 0] = np.arange(20)
+    N = np.tile([0.0, 0.0, 1.0], (20, 1))
+    moved = P.copy()
+    moved[:10, 2] = -1.0
+    moved[10, 2], moved[11, 2] = 0.8, 0.1
+    texture = np.arange(20) < 10
+    c = detexture.limit_counter_moves(P, moved, N, texture, height=1.0)
+    assert c["lean"] == 1.0 and c["side"] == 1 and c["limited"] == 1
+    expected = moved.copy()
+    expected[10, 2] = 0.25
+    assert np.array_equal(c["positions"], expected)
+    off = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=0.0)
+    assert np.array_equal(off["positions"], moved) and off["limited"] == 0
+    with pytest.raises(ValueError, match="counter-move-limit"):
+        detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=-1.0)

@@ -152,6 +152,7 @@ void validate(const RemoveTextureParams& p) {
   keep.radius = 1.0;
   keep.lambda = 1.0;
   validate(keep);
+  validate(p.counter_moves);
 }
 
 RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
@@ -458,12 +459,18 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   up.anchor_height = params.anchor_height * rep.lambda;
   up.anchor_angle_deg = params.anchor_angle;
   up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
-  const auto keep_update = [&rep, &result](UpdatePositionsResult&& u) {
+  LimitCounterMovesParams cp = params.counter_moves;
+  cp.height = rep.texture_height;
+  const auto keep_update = [&](UpdatePositionsResult&& u) {
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;
     rep.moves_limited = u.limited;
-    result.positions = std::move(u.positions);
+    LimitCounterMovesResult c =
+        limit_counter_moves(P, u.positions, filtered, result.is_texture, cp);
+    rep.relief_lean = c.lean;
+    rep.counter_moves_limited = c.limited;
+    result.positions = std::move(c.positions);
   };
   {
     StageClock clock(observer, rep, "update positions");

@@ -284,13 +284,13 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
   MPI_Gatherv(log.data(), length, MPI_DOUBLE, all.data(), lengths.data(), offsets.data(),
               MPI_DOUBLE, 0, MPI_COMM_WORLD);
   // The counts each rank's tiles added up, summed over the ranks.
-  unsigned long long counts[8] = {
-      rep.report.texture_points,          rep.report.opposite_neighbors,
-      rep.report.surface_split_neighbors, rep.report.normals_not_fitted,
-      rep.report.normals_blended,         rep.report.waves_flagged,
-      rep.report.waves_released,          rep.report.input_normals_kept};
-  unsigned long long counts_all[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  MPI_Reduce(counts, counts_all, 8, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  unsigned long long counts[9] = {rep.report.texture_points,          rep.report.opposite_neighbors,
+                                  rep.report.surface_split_neighbors, rep.report.normals_not_fitted,
+                                  rep.report.normals_blended,         rep.report.waves_flagged,
+                                  rep.report.waves_released,          rep.report.input_normals_kept,
+                                  rep.report.counter_moves_limited};
+  unsigned long long counts_all[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  MPI_Reduce(counts, counts_all, 9, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
 
   if (rank == 0) {
     try {
@@ -302,6 +302,7 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.waves_flagged = static_cast<std::size_t>(counts_all[5]);
       rep.report.waves_released = static_cast<std::size_t>(counts_all[6]);
       rep.report.input_normals_kept = static_cast<std::size_t>(counts_all[7]);
+      rep.report.counter_moves_limited = static_cast<std::size_t>(counts_all[8]);
       std::vector<TileLogEntry> entries;
       for (std::size_t k = 0; k + kLogFields <= all.size(); k += kLogFields)
         entries.push_back(unpack(all.data() + k));
@@ -343,6 +344,7 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
       rep.scan_seconds - rep.bin_seconds;
   rep.report.ransac_mean_iterations /= static_cast<double>(std::max<std::uint64_t>(1, in.count));
+  rep.report.relief_lean /= static_cast<double>(std::max<std::uint64_t>(1, in.count));
   return rep;
 }
 

@@ -200,6 +200,7 @@ OutOfCoreReport remove_texture_out_of_core(const std::string& input, const std::
   }
   rep.tiles_seconds = since(start);
   rep.report.ransac_mean_iterations /= static_cast<double>(in.count);
+  rep.report.relief_lean /= static_cast<double>(in.count);
   file.commit();
   return rep;
 }

@@ -53,6 +53,8 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.texture_height = std::max(r.texture_height, t.texture_height);
   r.max_move = std::max(r.max_move, t.max_move);
   r.moves_limited += t.moves_limited;
+  r.relief_lean += t.relief_lean * core;  // divided by the caller
+  r.counter_moves_limited += t.counter_moves_limited;
   r.normals_not_fitted += t.normals_not_fitted;
   r.normals_blended += t.normals_blended;
   r.input_normals_kept += t.input_normals_kept;
@@ -185,6 +187,7 @@ RemoveTextureResult remove_texture_tiled(Positions P, Normals normals,
   }
   RemoveTextureReport& r = result.report;
   r.ransac_mean_iterations /= static_cast<double>(n);
+  r.relief_lean /= static_cast<double>(n);
   r.mean_displacement = (result.positions - P).rowwise().norm().mean();
   result.input_positions = std::move(P);
   if (result.input_normals.rows() == 0) result.input_normals = Normals();
