@@ -397,9 +397,14 @@ int run_detexture(int argc, char** argv) {
                  "The relief counts as raised (or engraved) when the lean of the texture "
                  "points' large moves, (inward - outward) / all, reaches this, in (0, 1]")
       ->capture_default_str();
-  app.add_flag("--counter-move-engraved", params.counter_moves.engraved,
-               "Also limit inward moves where the relief leans engraved (grooves; dense "
-               "scales, which the update lifts to their tops)");
+  app.add_option("--counter-move-engraved-share", params.counter_moves.engraved_share,
+                 "Limit inward moves where the relief leans engraved only if texture points "
+                 "are at most this share of the cloud (sparse grooves, not dense scales, "
+                 "whose gaps read as engraved); 0 never, 1 always")
+      ->capture_default_str();
+  app.add_flag("!--counter-move-hard", params.counter_moves.soft,
+               "Cut moves against the relief at the limit instead of saturating them "
+               "smoothly (limit × tanh(move / limit))");
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
                "with the point (across a thin part)");
@@ -908,7 +913,7 @@ int run_detexture(int argc, char** argv) {
         std::fprintf(stderr, "  moves cut to the limit %g (texture height %g): %zu points\n",
                      r.max_move, r.texture_height, r.moves_limited);
       if (r.counter_moves_limited > 0)
-        std::fprintf(stderr, "  moves against the relief cut (lean %.2f): %zu points\n",
+        std::fprintf(stderr, "  moves against the relief limited (lean %.2f): %zu points\n",
                      r.relief_lean, r.counter_moves_limited);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",

@@ -280,9 +280,15 @@ DETEXTURE_VARIANTS = [
      "no limit on moves against the relief: points at concave junctions carried outward past "
      "raised relief by the rounded normals (limit_counter_moves.h; the default before session "
      "19)"),
-    ("counter-engraved", ["--counter-move-engraved"],
-     "moves against the relief also limited where it leans engraved: inward moves under "
-     "grooves and scales (limit_counter_moves.h; an option)"),
+    ("counter-hard", ["--counter-move-hard"],
+     "moves against the relief cut at the limit instead of saturated smoothly "
+     "(limit_counter_moves.h; the default in session 19)"),
+    ("no-counter-engraved", ["--counter-move-engraved-share", "0"],
+     "inward moves never limited where the relief leans engraved, even where the texture is "
+     "sparse (grooves; limit_counter_moves.h; the default in session 19)"),
+    ("counter-engraved-all", ["--counter-move-engraved-share", "1"],
+     "inward moves limited wherever the relief leans engraved, dense scales too "
+     "(limit_counter_moves.h; an option)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),

@@ -338,7 +338,9 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--keep-input-low 0.3",
                            "--counter-move-limit -1",
                            "--counter-move-lean 0",
-                           "--counter-move-lean 1.5"}) {
+                           "--counter-move-lean 1.5",
+                           "--counter-move-engraved-share 1.5",
+                           "--counter-move-engraved-share -1"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

@@ -45,21 +45,40 @@ Moves moves(double texture_move) {
 }
 
 // Raised relief (every texture point went down by 1, h = 1): the lean is 1,
-// the move of 0.8 outward is cut to 0.25, nothing else changes.
-TEST(LimitCounterMoves, RaisedReliefCutsOutwardMovesToTheLimit) {
+// and the outward moves saturate at l h = 0.25: 0.8 becomes
+// 0.25 tanh(3.2), 0.1 becomes 0.25 tanh(0.4); the inward moves stay. One
+// point moved past l h / 2 and is counted.
+TEST(LimitCounterMoves, RaisedReliefSaturatesOutwardMovesAtTheLimit) {
   const Moves m = moves(-1.0);
   const LimitCounterMovesResult r =
       limit_counter_moves(m.P, m.updated, m.N, m.texture, with_height(1.0));
   EXPECT_EQ(r.lean, 1.0);
   EXPECT_EQ(r.side, 1);
   EXPECT_EQ(r.limited, 1u);
-  Positions expected = m.updated;
-  expected(10, 2) = 0.25;
-  EXPECT_TRUE(r.positions == expected);
+  EXPECT_NEAR(r.positions(10, 2), 0.25 * std::tanh(3.2), 1e-15);
+  EXPECT_LT(r.positions(10, 2), 0.25);
+  EXPECT_NEAR(r.positions(11, 2), 0.25 * std::tanh(0.4), 1e-15);
+  EXPECT_GT(r.positions(11, 2), 0.09);  // a small move keeps most of its length
+  Positions untouched = r.positions;
+  untouched(10, 2) = m.updated(10, 2);
+  untouched(11, 2) = m.updated(11, 2);
+  EXPECT_TRUE(untouched == m.updated);
   // The limit is in units of the height.
   const LimitCounterMovesResult doubled =
       limit_counter_moves(m.P, m.updated * 2.0, m.N, m.texture, with_height(2.0));
-  EXPECT_DOUBLE_EQ(doubled.positions(10, 2), 0.5);
+  EXPECT_NEAR(doubled.positions(10, 2), 2.0 * r.positions(10, 2), 1e-15);
+}
+
+// Session 19's cut: 0.8 becomes exactly 0.25, 0.1 stays.
+TEST(LimitCounterMoves, TheHardCutClampsAtTheLimit) {
+  const Moves m = moves(-1.0);
+  LimitCounterMovesParams p = with_height(1.0);
+  p.soft = false;
+  const LimitCounterMovesResult r = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
+  EXPECT_EQ(r.limited, 1u);
+  Positions expected = m.updated;
+  expected(10, 2) = 0.25;
+  EXPECT_TRUE(r.positions == expected);
 }
 
 // The cut is along the normal the update moved along, whatever its direction.
@@ -70,28 +89,49 @@ TEST(LimitCounterMoves, TheCutIsAlongTheNormal) {
     m.N.row(i) = n;
     m.updated.row(i) = m.P.row(i) + m.updated(i, 2) * n;
   }
-  const LimitCounterMovesResult r =
-      limit_counter_moves(m.P, m.updated, m.N, m.texture, with_height(1.0));
+  LimitCounterMovesParams p = with_height(1.0);
+  p.soft = false;
+  const LimitCounterMovesResult r = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
   EXPECT_EQ(r.limited, 1u);
   EXPECT_TRUE(r.positions.row(10).isApprox(m.P.row(10) + 0.25 * n, 1e-12));
 }
 
-// Engraved relief (the texture went up): inward moves are cut only when asked.
-TEST(LimitCounterMoves, EngravedReliefIsLimitedOnlyWhenAsked) {
-  const Moves m = moves(1.0);
+// Engraved relief (the texture went up): inward moves are limited where the
+// texture points are at most engraved_share of the cloud (10 of 20 here),
+// not where they are more (13 of 20, as on dense scales).
+TEST(LimitCounterMoves, EngravedReliefIsLimitedWhereTheTextureIsSparse) {
+  Moves m = moves(1.0);
   LimitCounterMovesParams p = with_height(1.0);
-  const LimitCounterMovesResult off = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
-  EXPECT_EQ(off.lean, -1.0);
-  EXPECT_EQ(off.side, 0);
-  EXPECT_EQ(off.limited, 0u);
-  EXPECT_TRUE(off.positions == m.updated);
-  p.engraved = true;
-  const LimitCounterMovesResult on = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
-  EXPECT_EQ(on.side, -1);
-  EXPECT_EQ(on.limited, 1u);
+  p.soft = false;
+  const LimitCounterMovesResult sparse = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
+  EXPECT_EQ(sparse.lean, -1.0);
+  EXPECT_EQ(sparse.side, -1);
+  EXPECT_EQ(sparse.limited, 1u);
   Positions expected = m.updated;
   expected(12, 2) = -0.25;
-  EXPECT_TRUE(on.positions == expected);
+  EXPECT_TRUE(sparse.positions == expected);
+
+  p.engraved_share = 0.0;  // never (session 19)
+  LimitCounterMovesResult r = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
+  EXPECT_EQ(r.side, 0);
+  EXPECT_TRUE(r.positions == m.updated);
+
+  for (int i = 13; i < 16; ++i) m.texture[i] = 1;  // 13 of 20 texture, unmoved
+  p.engraved_share = 0.5;
+  r = limit_counter_moves(m.P, m.updated, m.N, m.texture, p);
+  EXPECT_EQ(r.lean, -1.0);
+  EXPECT_EQ(r.side, 0);
+  EXPECT_EQ(r.limited, 0u);
+  EXPECT_TRUE(r.positions == m.updated);
+  p.engraved_share = 1.0;  // always
+  EXPECT_EQ(limit_counter_moves(m.P, m.updated, m.N, m.texture, p).side, -1);
+  // Raised relief is limited whatever the share.
+  Moves raised = moves(-1.0);
+  raised.texture.assign(20, 1);
+  EXPECT_EQ(limit_counter_moves(raised.P, raised.updated, raised.N, raised.texture,
+                                with_height(1.0))
+                .side,
+            1);
 }
 
 // A lean below min_lean (waves: as many texture points up as down), or no
@@ -141,6 +181,13 @@ TEST(LimitCounterMoves, BadInputIsRefused) {
   p.min_lean = 1.5;
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   p = with_height(-1.0);
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p = with_height(1.0);
+  p.engraved_share = -0.1;
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p.engraved_share = 1.5;
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p.engraved_share = std::nan("");
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   p = with_height(1.0);
   p.count_from = std::nan("");

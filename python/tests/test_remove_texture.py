@@ -360,7 +360,8 @@ def test_counter_moves_match_the_command_line(work):
     command line."""
     d = detexture.default_parameters()
     assert (d["counter_moves_limit"], d["counter_moves_min_lean"]) == (0.25, 0.35)
-    assert d["counter_moves_count_from"] == 0.5 and d["counter_moves_engraved"] is False
+    assert d["counter_moves_count_from"] == 0.5 and d["counter_moves_engraved_share"] == 0.5
+    assert d["counter_moves_soft"] is True
     assert "counter_moves_height" not in d
     u = np.linspace(0.0, 1.0, 61)
     x, y = (a.ravel() for a in np.meshgrid(u, u, indexing="ij"))
@@ -382,5 +383,13 @@ def test_counter_moves_match_the_command_line(work):
     out = work / "dent_free.ply"
     run_cli(path, "-o", out, "-r", "0.1", "--counter-move-limit", "0", "-q", "--force")
     assert np.array_equal(detexture.read_point_cloud(out).positions, free.positions)
+    # Session 19's hard cut, from both: the same, and not the saturation.
+    hard = detexture.remove_texture(cloud, radius=0.1, counter_moves_soft=False)
+    assert not np.array_equal(hard.positions, limited.positions)
+    out = work / "dent_hard.ply"
+    run_cli(path, "-o", out, "-r", "0.1", "--counter-move-hard", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, hard.positions)
     with pytest.raises(ValueError, match="counter-move-lean"):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_min_lean=0.0)
+    with pytest.raises(ValueError, match="counter-move-engraved-share"):
+        detexture.remove_texture(cloud, radius=0.1, counter_moves_engraved_share=1.5)

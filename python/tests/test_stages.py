@@ -183,7 +183,8 @@ def test_keep_input_normals_where_nothing_moved():
 
 def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
     # Ten texture points went down by 1 (raised relief, h = 1); of the
-    # others one rose by 0.8 and is cut to 0.25, one by 0.1 and stays.
+    # others one rose by 0.8 and one by 0.1: they saturate at 0.25
+    # (0.25 tanh(t / 0.25)), or with soft=False the first is cut to 0.25.
     P = np.zeros((20, 3))
     P[:, 0] = np.arange(20)
     N = np.tile([0.0, 0.0, 1.0], (20, 1))
@@ -194,8 +195,12 @@ def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
     c = detexture.limit_counter_moves(P, moved, N, texture, height=1.0)
     assert c["lean"] == 1.0 and c["side"] == 1 and c["limited"] == 1
     expected = moved.copy()
+    expected[10, 2], expected[11, 2] = 0.25 * np.tanh(3.2), 0.25 * np.tanh(0.4)
+    assert np.allclose(c["positions"], expected, rtol=0, atol=1e-15)
+    hard = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, soft=False)
+    expected = moved.copy()
     expected[10, 2] = 0.25
-    assert np.array_equal(c["positions"], expected)
+    assert np.array_equal(hard["positions"], expected)
     off = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=0.0)
     assert np.array_equal(off["positions"], moved) and off["limited"] == 0
     with pytest.raises(ValueError, match="counter-move-limit"):

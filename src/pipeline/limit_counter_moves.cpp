@@ -20,6 +20,11 @@ void validate(const LimitCounterMovesParams& p) {
     throw std::invalid_argument(
         "the lean that decides the relief's side (--counter-move-lean) must be in (0, 1], got " +
         number_text(p.min_lean));
+  if (!(p.engraved_share >= 0.0 && p.engraved_share <= 1.0))
+    throw std::invalid_argument(
+        "the texture share under which engraved relief is limited "
+        "(--counter-move-engraved-share) must be in [0, 1], got " +
+        number_text(p.engraved_share));
   if (!(p.height >= 0.0) || !std::isfinite(p.height))
     throw std::invalid_argument("limit_counter_moves: the texture height must be >= 0, got " +
                                 number_text(p.height));
@@ -38,11 +43,13 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
   out.positions = updated;
   if (params.limit == 0.0 || params.height == 0.0) return out;
   std::vector<double> t(n);
-  std::size_t inward = 0, outward = 0;
+  std::size_t inward = 0, outward = 0, texture = 0;
   const double count_from = params.count_from * params.height;
   for (std::size_t i = 0; i < n; ++i) {
     t[i] = (updated.row(i) - P.row(i)).dot(normals.row(i));
-    if (!is_texture[i] || !std::isfinite(t[i])) continue;
+    if (!is_texture[i]) continue;
+    ++texture;
+    if (!std::isfinite(t[i])) continue;
     inward += t[i] < -count_from;
     outward += t[i] > count_from;
   }
@@ -51,16 +58,18 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
              static_cast<double>(inward + outward);
   if (out.lean >= params.min_lean)
     out.side = 1;
-  else if (params.engraved && out.lean <= -params.min_lean)
+  else if (out.lean <= -params.min_lean &&
+           static_cast<double>(texture) <= params.engraved_share * static_cast<double>(n))
     out.side = -1;
   if (out.side == 0) return out;
   const double limit = params.limit * params.height;
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(t[i])) continue;
-    const double excess = out.side > 0 ? std::max(t[i] - limit, 0.0) : std::min(t[i] + limit, 0.0);
-    if (excess == 0.0) continue;
-    out.positions.row(i) -= excess * normals.row(i);
-    ++out.limited;
+    const double against = out.side > 0 ? t[i] : -t[i];
+    if (against <= 0.0) continue;
+    const double kept = params.soft ? limit * std::tanh(against / limit) : std::min(against, limit);
+    out.positions.row(i) -= static_cast<double>(out.side) * (against - kept) * normals.row(i);
+    out.limited += against > (params.soft ? 0.5 : 1.0) * limit;
   }
   return out;
 }

@@ -344,7 +344,8 @@ struct RemoveTextureReport {
   /// Moves against the relief (limit_counter_moves.h), after the last
   /// update: the lean of the texture points' moves (+1 all inward: raised
   /// relief; tiled runs: the mean over the tiles, weighted by their core
-  /// points), and the points whose move was cut (tiled runs sum it).
+  /// points), and the points whose move was cut (LimitCounterMovesResult::
+  /// limited; tiled runs sum it).
   double relief_lean = 0.0;
   std::size_t counter_moves_limited = 0;
   /// Output normals not fitted to the positions (fit_normals_to_positions.h):
