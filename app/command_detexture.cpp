@@ -394,8 +394,11 @@ int run_detexture(int argc, char** argv) {
                  "height: no fillet bridging a concave junction; 0 for no limit")
       ->capture_default_str();
   app.add_option("--counter-move-lean", params.counter_moves.min_lean,
-                 "The relief counts as raised (or engraved) when the lean of the texture "
-                 "points' large moves, (inward - outward) / all, reaches this, in (0, 1]")
+                 "The relief counts as raised when the lean of the texture points' large "
+                 "moves, (inward - outward) / all, reaches this, in (0, 1]")
+      ->capture_default_str();
+  app.add_option("--counter-move-engraved-lean", params.counter_moves.engraved_min_lean,
+                 "... and as engraved when the lean is at most minus this, in (0, 1]")
       ->capture_default_str();
   app.add_option("--counter-move-engraved-share", params.counter_moves.engraved_share,
                  "Limit inward moves where the relief leans engraved only if texture points "

@@ -125,13 +125,24 @@ TEST(LimitCounterMoves, EngravedReliefIsLimitedWhereTheTextureIsSparse) {
   EXPECT_TRUE(r.positions == m.updated);
   p.engraved_share = 1.0;  // always
   EXPECT_EQ(limit_counter_moves(m.P, m.updated, m.N, m.texture, p).side, -1);
+  // The engraved side needs a clearer lean than the raised one: 7 texture
+  // points up and 3 down lean -0.4, short of 0.5 ...
+  Moves mixed = moves(1.0);
+  for (int i = 0; i < 3; ++i) mixed.updated(i, 2) = -1.0;
+  p = with_height(1.0);
+  r = limit_counter_moves(mixed.P, mixed.updated, mixed.N, mixed.texture, p);
+  EXPECT_DOUBLE_EQ(r.lean, -0.4);
+  EXPECT_EQ(r.side, 0);
+  // ... and past 0.35.
+  p.engraved_min_lean = 0.35;
+  EXPECT_EQ(limit_counter_moves(mixed.P, mixed.updated, mixed.N, mixed.texture, p).side, -1);
   // Raised relief is limited whatever the share.
   Moves raised = moves(-1.0);
   raised.texture.assign(20, 1);
-  EXPECT_EQ(limit_counter_moves(raised.P, raised.updated, raised.N, raised.texture,
-                                with_height(1.0))
-                .side,
-            1);
+  EXPECT_EQ(
+      limit_counter_moves(raised.P, raised.updated, raised.N, raised.texture, with_height(1.0))
+          .side,
+      1);
 }
 
 // A lean below min_lean (waves: as many texture points up as down), or no
@@ -181,6 +192,11 @@ TEST(LimitCounterMoves, BadInputIsRefused) {
   p.min_lean = 1.5;
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   p = with_height(-1.0);
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p = with_height(1.0);
+  p.engraved_min_lean = 0.0;
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p.engraved_min_lean = 1.5;
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   p = with_height(1.0);
   p.engraved_share = -0.1;

@@ -361,7 +361,7 @@ def test_counter_moves_match_the_command_line(work):
     d = detexture.default_parameters()
     assert (d["counter_moves_limit"], d["counter_moves_min_lean"]) == (0.25, 0.35)
     assert d["counter_moves_count_from"] == 0.5 and d["counter_moves_engraved_share"] == 0.5
-    assert d["counter_moves_soft"] is True
+    assert d["counter_moves_soft"] is True and d["counter_moves_engraved_min_lean"] == 0.5
     assert "counter_moves_height" not in d
     u = np.linspace(0.0, 1.0, 61)
     x, y = (a.ravel() for a in np.meshgrid(u, u, indexing="ij"))

@@ -20,6 +20,11 @@ void validate(const LimitCounterMovesParams& p) {
     throw std::invalid_argument(
         "the lean that decides the relief's side (--counter-move-lean) must be in (0, 1], got " +
         number_text(p.min_lean));
+  if (!(p.engraved_min_lean > 0.0 && p.engraved_min_lean <= 1.0))
+    throw std::invalid_argument(
+        "the lean that makes the relief engraved (--counter-move-engraved-lean) must be in (0, "
+        "1], got " +
+        number_text(p.engraved_min_lean));
   if (!(p.engraved_share >= 0.0 && p.engraved_share <= 1.0))
     throw std::invalid_argument(
         "the texture share under which engraved relief is limited "
@@ -58,7 +63,7 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
              static_cast<double>(inward + outward);
   if (out.lean >= params.min_lean)
     out.side = 1;
-  else if (out.lean <= -params.min_lean &&
+  else if (out.lean <= -params.engraved_min_lean &&
            static_cast<double>(texture) <= params.engraved_share * static_cast<double>(n))
     out.side = -1;
   if (out.side == 0) return out;
