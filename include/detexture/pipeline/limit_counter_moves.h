@@ -45,8 +45,8 @@
 // engraving (V grooves: 13-38% texture on 11 models) has the surface
 // between its features, so the side is known, and a floor point carried
 // further in by a wall's normal is an error: limiting inward moves there
-// took the Dmax of 10 V grooves on unseen models under 1.25 × the input's
-// in all 10 (6 over before), with less normal error on all 10. Dense
+// took the Dmax of the V grooves on 9 unseen models under 1.25 × the
+// input's (5 of them over before), with less normal error on all 9. Dense
 // scales (46-80% texture on 12 models) lean engraved too, because the
 // update lifts their narrow gaps to the cells' tops, but their cells are
 // raised and move inward legitimately: limiting them cost the suite's
