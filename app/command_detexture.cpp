@@ -391,7 +391,8 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--counter-move-limit", params.counter_moves.limit,
                  "Where the relief was raised (the texture points' large moves go mostly "
                  "inward), no point moves outward by more than this multiple of the texture "
-                 "height: no fillet bridging a concave junction; 0 for no limit")
+                 "height: no fillet bridging a concave junction (inward, where sparse relief "
+                 "was engraved); 0 for no limit")
       ->capture_default_str();
   app.add_option("--counter-move-lean", params.counter_moves.min_lean,
                  "The relief counts as raised when the lean of the texture points' large "

@@ -18,7 +18,7 @@ void validate(const LimitCounterMovesParams& p) {
         number_text(p.count_from));
   if (!(p.min_lean > 0.0 && p.min_lean <= 1.0))
     throw std::invalid_argument(
-        "the lean that decides the relief's side (--counter-move-lean) must be in (0, 1], got " +
+        "the lean that makes the relief raised (--counter-move-lean) must be in (0, 1], got " +
         number_text(p.min_lean));
   if (!(p.engraved_min_lean > 0.0 && p.engraved_min_lean <= 1.0))
     throw std::invalid_argument(

@@ -14,12 +14,12 @@
 // 99th percentile of the texture points' heights above their fitted
 // surfaces, remove_texture.h), c = count_from, l = limit, share the texture
 // points' share of the cloud, e = engraved_min_lean and s_e =
-// engraved_share. Every point is
-// limited, texture or not. s saturates at l h and is the identity to first
-// order: moves well under l h keep most of their length (0.5 l h keeps
-// 92%), and where cut and uncut points meet there is no kink. Session 19
-// cut at l h (soft = false); the saturation, on 60 unseen cases, gave -1.1%
-// residual texture and -0.2% normal error on the dense reliefs (session 20).
+// engraved_share. Every point is limited, texture or not. s saturates at
+// l h and is the identity to first order: moves well under l h keep most
+// of their length (0.5 l h keeps 92%), and where limited and free points
+// meet there is no kink. Session 19 cut at l h (soft = false); against
+// that cut the saturation gave -1.0% residual texture and -0.25% normal
+// error on 30 unseen dense reliefs (session 20).
 //
 // Why: the update fits the positions to normals that the filters round at
 // σs. Where the shape turns concave more tightly than that (an armpit, the
