@@ -572,7 +572,16 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--keep-input-high", params.keep_input.high,
                  "Output normals: from a move of this multiple of λ on, the fitted normal "
-                 "stays (linearly between); 0 keeps no input normal")
+                 "stays (linearly between); 0 for no input normal kept by the move")
+      ->capture_default_str();
+  app.add_option("--keep-input-exact-angle", params.keep_input.exact_angle_deg,
+                 "Output normals: an exact input normal (its nearest neighbors lie in its "
+                 "tangent plane: no noise) is kept wherever it lies within this angle of the "
+                 "fitted one, in degrees, in [0, 90); 0 for none")
+      ->capture_default_str();
+  app.add_option("--keep-input-exact-residual", params.keep_input.exact_residual,
+                 "Output normals: an input normal is exact where its nearest neighbors lie "
+                 "within this mean distance of its tangent plane, a multiple of λ")
       ->capture_default_str();
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "

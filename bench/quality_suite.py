@@ -270,9 +270,12 @@ DETEXTURE_VARIANTS = [
      "output normals fitted at one scale (σ = 0.3 r) only, without the fine fit where it "
      "departs by more than its noise explains (fit_normals_to_positions.h; the default "
      "before session 17)"),
-    ("no-kept-input", ["--keep-input-high", "0"],
-     "no input normals kept where nothing near the point moved: the fit and its blend "
-     "everywhere (keep_input_normals.h; the default before session 18)"),
+    ("no-kept-input", ["--keep-input-high", "0", "--keep-input-exact-angle", "0"],
+     "no input normals kept, neither where nothing near the point moved nor exact ones: the "
+     "fit and its blend everywhere (keep_input_normals.h; the default before session 18)"),
+    ("no-exact-input", ["--keep-input-exact-angle", "0"],
+     "exact (noise-free) input normals within 4° of the fitted ones not kept where the points "
+     "moved (keep_input_normals.h; the default before session 21)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

@@ -195,10 +195,10 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   // A blend window closed to almost nothing keeps the filtered normals
   // nearly everywhere, on every cloud (--blend-share-high 0: the gate would
   // open the window on this one, which has no waves; and no input normals
-  // kept where nothing moved, which would replace some).
+  // kept, where nothing moved or exact, which would replace some).
   const std::string narrow =
       " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0 --blend-share-high 0"
-      " --keep-input-high 0";
+      " --keep-input-high 0 --keep-input-exact-angle 0";
   ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
   const PointCloud d = read_point_cloud(path("default.ply")),
                    b = read_point_cloud(path("blended.ply")),
@@ -336,6 +336,9 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--fit-range-normals both",
                            "--keep-input-high -1",
                            "--keep-input-low 0.3",
+                           "--keep-input-exact-angle 90",
+                           "--keep-input-exact-angle -1",
+                           "--keep-input-exact-residual -0.1",
                            "--counter-move-limit -1",
                            "--counter-move-lean 0",
                            "--counter-move-lean 1.5",

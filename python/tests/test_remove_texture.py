@@ -341,16 +341,31 @@ def test_fit_range_normals_match_the_command_line(cube, work):
 
 def test_keep_input_normals_match_the_command_line(cube, work):
     """Input normals are kept where nothing near the point moved (low 0.05,
-    high 0.2, in units of λ); keep_input_high = 0 keeps none, the same from
-    Python and from the command line, and the positions do not change."""
+    high 0.2, in units of λ), and exact ones (residual 0.05 λ over 8
+    neighbors) within 4° of the fitted normal; keep_input_high = 0 and
+    keep_input_exact_angle_deg = 0 keep none, the same from Python and from
+    the command line, and the positions do not change. Each test alone keeps
+    some (the cube is noise free), and both together more than either."""
     d = detexture.default_parameters()
     assert (d["keep_input_low"], d["keep_input_high"]) == (0.05, 0.2)
+    assert (d["keep_input_exact_angle_deg"], d["keep_input_exact_residual"],
+            d["keep_input_exact_neighbors"]) == (4.0, 0.05, 8)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
     cloud, kept, fitted = default_and_option(
-        cube, work, ["--keep-input-high", "0"], keep_input_high=0.0)
+        cube, work, ["--keep-input-high", "0", "--keep-input-exact-angle", "0"],
+        keep_input_high=0.0, keep_input_exact_angle_deg=0.0)
     assert kept.report.input_normals_kept > 0 and fitted.report.input_normals_kept == 0
+    _, _, by_move = default_and_option(
+        cube, work, ["--keep-input-exact-angle", "0"], keep_input_exact_angle_deg=0.0)
+    _, _, by_exactness = default_and_option(
+        cube, work, ["--keep-input-high", "0"], keep_input_high=0.0)
+    assert by_move.report.input_normals_kept > 0 and by_exactness.report.input_normals_kept > 0
+    assert max(by_move.report.input_normals_kept,
+               by_exactness.report.input_normals_kept) < kept.report.input_normals_kept
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.09, keep_input_low=0.3)
+    with pytest.raises(ValueError, match="exact-angle"):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_exact_angle_deg=95.0)
 
 
 def test_counter_moves_match_the_command_line(work):

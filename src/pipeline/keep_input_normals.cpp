@@ -23,6 +23,20 @@ void validate(const KeepInputNormalsParams& p) {
   if (!(p.lambda > 0.0) || !std::isfinite(p.lambda))
     throw std::invalid_argument("keep_input_normals: λ must be positive, got " +
                                 number_text(p.lambda));
+  if (!(p.exact_angle_deg >= 0.0 && p.exact_angle_deg < 90.0))
+    throw std::invalid_argument(
+        "the angle within which exact input normals are taken (--keep-input-exact-angle) must lie "
+        "in [0, 90) degrees, got " +
+        number_text(p.exact_angle_deg));
+  if (!(p.exact_residual >= 0.0) || !std::isfinite(p.exact_residual))
+    throw std::invalid_argument(
+        "the residual under which input normals count as exact (--keep-input-exact-residual) "
+        "must be >= 0, got " +
+        number_text(p.exact_residual));
+  if (p.exact_neighbors < 3)
+    throw std::invalid_argument(
+        "the exactness test of input normals needs at least 3 neighbors, got " +
+        number_text(p.exact_neighbors));
 }
 
 KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& updated,
@@ -39,22 +53,47 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
         "keep_input_normals: positions, normals, labels and neighborhoods differ in size");
   KeepInputNormalsResult out;
   out.normals = normals;
-  if (params.high == 0.0) return out;
+  const bool by_move = params.high > 0.0, by_exactness = params.exact_angle_deg > 0.0;
+  if (!by_move && !by_exactness) return out;
   const double low = params.low * params.lambda, high = params.high * params.lambda;
   const double radius_sq = params.radius * params.radius;
-  std::vector<double> moved(n);
-  for (std::size_t i = 0; i < n; ++i) moved[i] = (updated.row(i) - P.row(i)).norm();
-  std::size_t kept = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept)
+  const double min_cos = std::cos(params.exact_angle_deg * M_PI / 180.0);
+  const double max_residual = params.exact_residual * params.lambda;
+  std::vector<double> moved(by_move ? n : 0);
+  for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = (updated.row(i) - P.row(i)).norm();
+  // ñ_i is exact where its k nearest neighbors lie in its tangent plane.
+  const auto exact = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
+    double sum = 0.0;
+    int count = 0;
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && count < params.exact_neighbors;
+         ++nb) {
+      if (*nb == i) continue;
+      sum += std::abs(unit_given.dot(P.row(*nb) - P.row(i)));
+      ++count;
+    }
+    return count >= 3 && sum <= max_residual * count;
+  };
+  std::size_t kept = 0, exact_kept = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept, exact_kept)
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_texture.empty() && is_texture[i]) continue;
     const Eigen::RowVector3d given = input_normals.row(i);
     const Eigen::RowVector3d ni = normals.row(i);
     if (given.squaredNorm() == 0.0 || !given.allFinite() || ni.squaredNorm() == 0.0) continue;
-    double m = moved[i];
-    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m < high; ++nb)
-      if ((P.row(*nb) - P.row(i)).squaredNorm() <= radius_sq) m = std::max(m, moved[*nb]);
-    const double w = std::clamp((high - m) / (high - low), 0.0, 1.0);
+    double w = 0.0;
+    if (by_move) {
+      double m = moved[i];
+      for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m < high; ++nb)
+        if ((P.row(*nb) - P.row(i)).squaredNorm() <= radius_sq) m = std::max(m, moved[*nb]);
+      w = std::clamp((high - m) / (high - low), 0.0, 1.0);
+    }
+    if (w < 1.0 && by_exactness) {
+      const Eigen::RowVector3d unit_given = given.normalized();
+      if (std::abs(unit_given.dot(ni.normalized())) >= min_cos && exact(i, unit_given)) {
+        w = 1.0;
+        ++exact_kept;
+      }
+    }
     if (w == 0.0) continue;
     const Eigen::RowVector3d signed_given =
         (given.dot(ni) < 0.0 ? Eigen::RowVector3d(-given) : given).normalized();
@@ -65,6 +104,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     ++kept;
   }
   out.kept = kept;
+  out.exact = exact_kept;
   return out;
 }
 
