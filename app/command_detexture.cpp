@@ -583,6 +583,20 @@ int run_detexture(int argc, char** argv) {
                  "Output normals: an input normal is exact where its nearest neighbors lie "
                  "within this mean distance of its tangent plane, a multiple of λ")
       ->capture_default_str();
+  app.add_option("--keep-input-still-angle", params.keep_input.still_angle_deg,
+                 "Output normals: where nothing within --solve-radius moved by more than "
+                 "--keep-input-still-move λ, an exact input normal is kept up to this angle of "
+                 "the fitted one (degrees, in [0, 90)) if its neighbors' input normals agree "
+                 "and the fitted normals around turn as much (facets); 0 for none")
+      ->capture_default_str();
+  app.add_option("--keep-input-still-move", params.keep_input.still_move,
+                 "Output normals: the move, a multiple of λ, under which the surface counts as "
+                 "stayed for --keep-input-still-angle")
+      ->capture_default_str();
+  app.add_option("--keep-input-still-uniform", params.keep_input.still_uniform_deg,
+                 "Output normals: the angle (degrees) within which the nearest neighbors' input "
+                 "normals must agree for --keep-input-still-angle")
+      ->capture_default_str();
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "detexture/eval/compare_to_ground_truth.h"
@@ -137,6 +138,83 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWithinTheAngle) {
   EXPECT_EQ(run(0.0006, 3.0, loose), 49u);
 }
 
+// Exact input normals where the surface stayed: a flat grid (spacing 0.1,
+// x and y in [-1, 1]) with exact normals +z, moved by 0.5 λ along x, and
+// output normals tilted about y by 50° x², as a rounded surface's would
+// be. Within ρ = 0.25 (±0.2 in x) the output normals around x turn by up
+// to 50° ((|x| + 0.2)² - x²) = 20°|x| + 2°, so the tilt 50° x² lies within
+// that turn for |x| <= 0.48: at x = ±0.3 (4.5°) and ±0.4 (8°) the input
+// normal is taken by this test (at |x| <= 0.2, 2° at most, by the 4° one);
+// at ±0.5 (12.5° against 12°) and beyond it is not, nor anywhere once the
+// move exceeds μ λ, nor with θ_s = 0, nor when the neighbors' input normals
+// disagree by more than φ, nor above θ_s.
+TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
+  constexpr int side = 21;
+  const double lambda = 0.01;
+  const auto s = test::bumpy_plane(side, 0.0, 1.0);
+  Positions P = s.P;
+  for (int i = 0; i < P.rows(); ++i) {
+    P(i, 0) = -1.0 + 0.1 * (i % side);
+    P(i, 1) = -1.0 + 0.1 * (i / side);
+    P(i, 2) = 0.0;
+  }
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  Normals given(P.rows(), 3);
+  given.rowwise() = Eigen::RowVector3d(0.0, 0.0, 1.0);
+  Normals output(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double t = 50.0 * P(i, 0) * P(i, 0) * M_PI / 180.0;
+    output.row(i) = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
+  }
+  const auto run = [&](double move, const Normals& in, const KeepInputNormalsParams& q) {
+    Positions updated = P;
+    updated.col(0).array() += move;
+    return keep_input_normals(P, updated, in, output, {}, R, q);
+  };
+  // The columns x = -1 + 0.1 c whose input normal is taken, in row 10.
+  const auto taken_x = [&](const KeepInputNormalsResult& r) {
+    std::vector<int> tenths;
+    for (int c = 0; c < side; ++c) {
+      const int i = 10 * side + c;
+      if (test::angle_deg(r.normals.row(i), given.row(i)) < 1e-9)
+        tenths.push_back(static_cast<int>(std::lround(P(i, 0) * 10.0)));
+      else
+        EXPECT_TRUE(r.normals.row(i) == output.row(i)) << i;
+    }
+    return tenths;
+  };
+  KeepInputNormalsParams p = params_at(0.25, lambda);
+  ASSERT_EQ(p.still_angle_deg, 20.0);
+  ASSERT_EQ(p.still_move, 1.0);
+  ASSERT_EQ(p.still_uniform_deg, 1.0);
+  const KeepInputNormalsResult r = run(0.5 * lambda, given, p);
+  EXPECT_EQ(taken_x(r), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
+  // Columns ±0.3 and ±0.4 of all 21 rows are taken by this test.
+  EXPECT_EQ(r.still, 4u * side);
+  EXPECT_EQ(r.kept, r.exact);
+  // Moved farther than μ λ: only the 4° test.
+  EXPECT_EQ(taken_x(run(1.5 * lambda, given, p)), (std::vector<int>{-2, -1, 0, 1, 2}));
+  KeepInputNormalsParams loose = p;
+  loose.still_move = 2.0;
+  EXPECT_EQ(run(1.5 * lambda, given, loose).still, 4u * side);
+  KeepInputNormalsParams off = p;
+  off.still_angle_deg = 0.0;
+  EXPECT_EQ(taken_x(run(0.5 * lambda, given, off)), (std::vector<int>{-2, -1, 0, 1, 2}));
+  KeepInputNormalsParams narrow = p;
+  narrow.still_angle_deg = 6.0;
+  EXPECT_EQ(taken_x(run(0.5 * lambda, given, narrow)), (std::vector<int>{-3, -2, -1, 0, 1, 2, 3}));
+  // Input normals turned by 2° every other column (as on a wave, not a
+  // facet): no neighbor agrees within 1°, nothing is taken by this test;
+  // within φ = 3° they agree again.
+  Normals turning = given;
+  for (int i = 0; i < P.rows(); ++i)
+    if (i % 2) turning.row(i) = Eigen::RowVector3d(0.0, std::sin(0.035), std::cos(0.035));
+  EXPECT_EQ(run(0.5 * lambda, turning, p).still, 0u);
+  KeepInputNormalsParams wide = p;
+  wide.still_uniform_deg = 3.0;
+  EXPECT_GT(run(0.5 * lambda, turning, wide).still, 0u);
+}
+
 TEST(KeepInputNormals, BadInputIsRefused) {
   const auto s = test::bumpy_plane(5, 0.0, 1.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
@@ -167,6 +245,19 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   p.exact_neighbors = 2;
   EXPECT_THROW(validate(p), std::invalid_argument);
   p = params_at(0.2, 0.01);
+  p.still_angle_deg = 90.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.still_angle_deg = -1.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.still_move = -0.5;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.still_move = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.still_uniform_deg = 90.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N.topRows(3), s.N, {}, R, p), std::invalid_argument);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N, s.N, std::vector<std::uint8_t>(2, 0), R, p),
                std::invalid_argument);
@@ -175,8 +266,8 @@ TEST(KeepInputNormals, BadInputIsRefused) {
 // Through remove_texture: synth's cube with bumps keeps the input normals
 // away from its bumps and, being noise free, its exact ones within 4° of
 // the fit, which changes the output normals only and brings them closer to
-// the true ones, step by step; keep_input high 0 and exact_angle_deg 0
-// restore the output before (the fit and its blend alone). With noise of
+// the true ones, step by step; keep_input high 0, exact_angle_deg 0 and
+// still_angle_deg 0 restore the output before (the fit and its blend alone). With noise of
 // 0.3 λ in the positions (and the normals estimated from them), hardly
 // any input normal is exact: at most 0.1% of the output normals change
 // (2 of 6000 here: 8 neighbors that lie near the plane fitted to them by
@@ -190,6 +281,7 @@ TEST(KeepInputNormals, RemoveTextureKeepsThemWhereTheSurfaceStayed) {
   p.threads = 2;
   const RemoveTextureResult kept = remove_texture(cube.positions, cube.normals, p);
   p.keep_input.exact_angle_deg = 0.0;
+  p.keep_input.still_angle_deg = 0.0;
   const RemoveTextureResult by_move = remove_texture(cube.positions, cube.normals, p);
   p.keep_input.high = 0.0;
   const RemoveTextureResult fitted = remove_texture(cube.positions, cube.normals, p);
@@ -212,9 +304,16 @@ TEST(KeepInputNormals, RemoveTextureKeepsThemWhereTheSurfaceStayed) {
   const SynthesizedShape noisy = synthesize_shape(cp);
   p = RemoveTextureParams();
   p.threads = 2;
+  const RemoveTextureResult noisy_all = remove_texture(noisy.positions, Normals(), p);
+  p.keep_input.still_angle_deg = 0.0;
   const RemoveTextureResult noisy_kept = remove_texture(noisy.positions, Normals(), p);
   p.keep_input.exact_angle_deg = 0.0;
   const RemoveTextureResult noisy_by_move = remove_texture(noisy.positions, Normals(), p);
+  // Where the surface stayed: the same, at most 0.1% changed.
+  int still_changed = 0;
+  for (int i = 0; i < noisy.positions.rows(); ++i)
+    still_changed += noisy_all.normals.row(i) != noisy_kept.normals.row(i);
+  EXPECT_LE(still_changed, noisy.positions.rows() / 1000);
   int changed = 0;
   for (int i = 0; i < noisy.positions.rows(); ++i) {
     if (noisy_kept.normals.row(i) == noisy_by_move.normals.row(i)) continue;

@@ -342,21 +342,28 @@ def test_fit_range_normals_match_the_command_line(cube, work):
 def test_keep_input_normals_match_the_command_line(cube, work):
     """Input normals are kept where nothing near the point moved (low 0.05,
     high 0.2, in units of λ), and exact ones (residual 0.05 λ over 8
-    neighbors) within 4° of the fitted normal; keep_input_high = 0 and
-    keep_input_exact_angle_deg = 0 keep none, the same from Python and from
-    the command line, and the positions do not change. Each test alone keeps
-    some (the cube is noise free), and both together more than either."""
+    neighbors) within 4° of the fitted normal, and up to 20° where nothing
+    moved by more than λ (facets); keep_input_high = 0,
+    keep_input_exact_angle_deg = 0 and keep_input_still_angle_deg = 0 keep
+    none, the same from Python and from the command line, and the positions
+    do not change. The move alone and exactness alone each keep some (the
+    cube is noise free), and both together more than either."""
     d = detexture.default_parameters()
     assert (d["keep_input_low"], d["keep_input_high"]) == (0.05, 0.2)
     assert (d["keep_input_exact_angle_deg"], d["keep_input_exact_residual"],
             d["keep_input_exact_neighbors"]) == (4.0, 0.05, 8)
+    assert (d["keep_input_still_angle_deg"], d["keep_input_still_move"],
+            d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
+    off = ["--keep-input-high", "0", "--keep-input-exact-angle", "0",
+           "--keep-input-still-angle", "0"]
     cloud, kept, fitted = default_and_option(
-        cube, work, ["--keep-input-high", "0", "--keep-input-exact-angle", "0"],
-        keep_input_high=0.0, keep_input_exact_angle_deg=0.0)
+        cube, work, off, keep_input_high=0.0, keep_input_exact_angle_deg=0.0,
+        keep_input_still_angle_deg=0.0)
     assert kept.report.input_normals_kept > 0 and fitted.report.input_normals_kept == 0
     _, _, by_move = default_and_option(
-        cube, work, ["--keep-input-exact-angle", "0"], keep_input_exact_angle_deg=0.0)
+        cube, work, ["--keep-input-exact-angle", "0", "--keep-input-still-angle", "0"],
+        keep_input_exact_angle_deg=0.0, keep_input_still_angle_deg=0.0)
     _, _, by_exactness = default_and_option(
         cube, work, ["--keep-input-high", "0"], keep_input_high=0.0)
     assert by_move.report.input_normals_kept > 0 and by_exactness.report.input_normals_kept > 0
@@ -366,6 +373,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         detexture.remove_texture(cloud, radius=0.09, keep_input_low=0.3)
     with pytest.raises(ValueError, match="exact-angle"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_exact_angle_deg=95.0)
+    with pytest.raises(ValueError, match="still-move"):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_still_move=-1.0)
 
 
 def test_counter_moves_match_the_command_line(work):

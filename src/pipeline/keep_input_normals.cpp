@@ -33,6 +33,21 @@ void validate(const KeepInputNormalsParams& p) {
         "the residual under which input normals count as exact (--keep-input-exact-residual) "
         "must be >= 0, got " +
         number_text(p.exact_residual));
+  if (!(p.still_angle_deg >= 0.0 && p.still_angle_deg < 90.0))
+    throw std::invalid_argument(
+        "the angle within which exact input normals are taken where the surface stayed "
+        "(--keep-input-still-angle) must lie in [0, 90) degrees, got " +
+        number_text(p.still_angle_deg));
+  if (!(p.still_move >= 0.0) || !std::isfinite(p.still_move))
+    throw std::invalid_argument(
+        "the move under which the surface counts as stayed (--keep-input-still-move) must be "
+        ">= 0, got " +
+        number_text(p.still_move));
+  if (!(p.still_uniform_deg >= 0.0 && p.still_uniform_deg < 90.0))
+    throw std::invalid_argument(
+        "the angle within which the neighbors' input normals must agree "
+        "(--keep-input-still-uniform) must lie in [0, 90) degrees, got " +
+        number_text(p.still_uniform_deg));
   if (p.exact_neighbors < 3)
     throw std::invalid_argument(
         "the exactness test of input normals needs at least 3 neighbors, got " +
@@ -53,13 +68,19 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
         "keep_input_normals: positions, normals, labels and neighborhoods differ in size");
   KeepInputNormalsResult out;
   out.normals = normals;
-  const bool by_move = params.high > 0.0, by_exactness = params.exact_angle_deg > 0.0;
-  if (!by_move && !by_exactness) return out;
+  const bool by_move = params.high > 0.0, by_exactness = params.exact_angle_deg > 0.0,
+             by_stillness = params.still_angle_deg > 0.0;
+  if (!by_move && !by_exactness && !by_stillness) return out;
   const double low = params.low * params.lambda, high = params.high * params.lambda;
   const double radius_sq = params.radius * params.radius;
   const double min_cos = std::cos(params.exact_angle_deg * M_PI / 180.0);
   const double max_residual = params.exact_residual * params.lambda;
-  std::vector<double> moved(by_move ? n : 0);
+  const double still_cos = std::cos(params.still_angle_deg * M_PI / 180.0);
+  const double still_move = params.still_move * params.lambda;
+  const double uniform_cos = std::cos(params.still_uniform_deg * M_PI / 180.0);
+  // m_i is read up to the larger of the two bounds it is compared with.
+  const double move_bound = std::max(by_move ? high : 0.0, by_stillness ? still_move : 0.0);
+  std::vector<double> moved(by_move || by_stillness ? n : 0);
   for (std::size_t i = 0; i < moved.size(); ++i) moved[i] = (updated.row(i) - P.row(i)).norm();
   // ñ_i is exact where its k nearest neighbors lie in its tangent plane.
   const auto exact = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
@@ -73,25 +94,55 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     }
     return count >= 3 && sum <= max_residual * count;
   };
-  std::size_t kept = 0, exact_kept = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept, exact_kept)
+  // The surface stayed around p_i and ñ_i is a facet's (see the header):
+  // its nearest neighbors' input normals agree with it, and its angle to
+  // n'_i is no larger than n' turns within ρ.
+  const auto facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given,
+                         const Eigen::RowVector3d& unit_output) {
+    int count = 0;
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && count < params.exact_neighbors;
+         ++nb) {
+      if (*nb == i) continue;
+      const Eigen::RowVector3d g = input_normals.row(*nb);
+      const double norm = g.norm();
+      if (!(norm > 0.0) || std::abs(g.dot(unit_given)) < uniform_cos * norm) return false;
+      ++count;
+    }
+    const double tilt = std::acos(std::min(1.0, std::abs(unit_given.dot(unit_output))));
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+      if ((P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
+      const Eigen::RowVector3d o = normals.row(*nb);
+      const double norm = o.norm();
+      if (!(norm > 0.0)) continue;
+      if (std::acos(std::min(1.0, std::abs(o.dot(unit_output)) / norm)) >= tilt) return true;
+    }
+    return false;
+  };
+  std::size_t kept = 0, exact_kept = 0, still_kept = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept, exact_kept, still_kept)
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_texture.empty() && is_texture[i]) continue;
     const Eigen::RowVector3d given = input_normals.row(i);
     const Eigen::RowVector3d ni = normals.row(i);
     if (given.squaredNorm() == 0.0 || !given.allFinite() || ni.squaredNorm() == 0.0) continue;
-    double w = 0.0;
-    if (by_move) {
-      double m = moved[i];
-      for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m < high; ++nb)
+    double w = 0.0, m = 0.0;
+    if (by_move || by_stillness) {
+      m = moved[i];
+      for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m <= move_bound; ++nb)
         if ((P.row(*nb) - P.row(i)).squaredNorm() <= radius_sq) m = std::max(m, moved[*nb]);
-      w = std::clamp((high - m) / (high - low), 0.0, 1.0);
     }
-    if (w < 1.0 && by_exactness) {
+    if (by_move) w = std::clamp((high - m) / (high - low), 0.0, 1.0);
+    if (w < 1.0 && (by_exactness || by_stillness)) {
       const Eigen::RowVector3d unit_given = given.normalized();
-      if (std::abs(unit_given.dot(ni.normalized())) >= min_cos && exact(i, unit_given)) {
+      const Eigen::RowVector3d unit_output = ni.normalized();
+      const double c = std::abs(unit_given.dot(unit_output));
+      const bool close = by_exactness && c >= min_cos;
+      const bool still = !close && by_stillness && c >= still_cos && m <= still_move;
+      if ((close || still) && exact(i, unit_given) &&
+          (close || facet(i, unit_given, unit_output))) {
         w = 1.0;
         ++exact_kept;
+        still_kept += still;
       }
     }
     if (w == 0.0) continue;
@@ -105,6 +156,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   }
   out.kept = kept;
   out.exact = exact_kept;
+  out.still = still_kept;
   return out;
 }
 
