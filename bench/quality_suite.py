@@ -270,12 +270,18 @@ DETEXTURE_VARIANTS = [
      "output normals fitted at one scale (σ = 0.3 r) only, without the fine fit where it "
      "departs by more than its noise explains (fit_normals_to_positions.h; the default "
      "before session 17)"),
-    ("no-kept-input", ["--keep-input-high", "0", "--keep-input-exact-angle", "0"],
+    ("no-kept-input", ["--keep-input-high", "0", "--keep-input-exact-angle", "0",
+                       "--keep-input-still-angle", "0"],
      "no input normals kept, neither where nothing near the point moved nor exact ones: the "
      "fit and its blend everywhere (keep_input_normals.h; the default before session 18)"),
-    ("no-exact-input", ["--keep-input-exact-angle", "0"],
-     "exact (noise-free) input normals within 4° of the fitted ones not kept where the points "
-     "moved (keep_input_normals.h; the default before session 21)"),
+    ("no-exact-input", ["--keep-input-exact-angle", "0", "--keep-input-still-angle", "0"],
+     "exact (noise-free) input normals not kept where the points moved, neither within 4° of "
+     "the fitted ones nor up to 20° where the surface stayed (keep_input_normals.h; the "
+     "default before session 21)"),
+    ("no-still-input", ["--keep-input-still-angle", "0"],
+     "exact input normals kept within 4° of the fitted ones only, not up to 20° where nothing "
+     "within the solve radius moved by more than λ and they are a facet's "
+     "(keep_input_normals.h; the default before session 23)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

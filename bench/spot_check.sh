@@ -5,7 +5,7 @@
 # run with the suites' rule (-r 1.5 R, --sigma-s 1.5 R), in auto mode (no
 # parameters) and with --ignore-normals, and compared with the input.
 #
-#   bench/spot_check.sh [--peers] [BUILD_DIR] [WORK_DIR]
+#   bench/spot_check.sh [--peers] [--broad] [BUILD_DIR] [WORK_DIR]
 #
 # BUILD_DIR (default build) holds detexture and bench/peers/prepare_mesh
 # (cmake -DDETEXTURE_BUILD_PEERS=ON). Prints one line per case and run:
@@ -23,15 +23,21 @@
 # U and V grooves R 0.02, 0.006 deep), 30 more cases in WORK_DIR/waves, the
 # rule only, with the same flags and counts (no peers: see bench/README.md).
 #
+# --broad: then also five more models (and the thing again), each with all
+# six reliefs above, 36 cases in WORK_DIR/broad, the rule only, with the same
+# flags and counts (session 23's broad check).
+#
 # --peers: then also run the five tuned peers on the 30 cases and rank
 # detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
 # cores the first time, then cached).
 set -euo pipefail
 peers=0
-if [ "${1:-}" = --peers ]; then
-  peers=1
+broad=0
+while [ "${1:-}" = --peers ] || [ "${1:-}" = --broad ]; do
+  [ "$1" = --peers ] && peers=1
+  [ "$1" = --broad ] && broad=1
   shift
-fi
+done
 build=$(realpath "${1:-build}")
 work=${2:-$build/bench-spot}
 mkdir -p "$work"
@@ -111,6 +117,21 @@ open(flags, 'a').write(' '.join(worse) + '\n')
 PY
 }
 
+# check_model DIR FLAGS NAME MODEL LEVELS RELIEF...: prepare MODEL as
+# DIR/NAME.base.ply, then check_case each RELIEF ("texture layout size
+# amplitude") on it.
+check_model() {
+  local dir=$1 flags=$2 name=$3 model=$4 levels=$5 relief texture layout size amplitude
+  shift 5
+  "$build/bench/peers/prepare_mesh" "$models/$model" "$dir/$name.base.ply" --components largest \
+    --subdivide "$levels" >"$dir/$name.prepare.log"
+  for relief in "$@"; do
+    read -r texture layout size amplitude <<<"$relief"
+    check_case "$dir" "$flags" "$name-$texture" "$dir/$name.base.ply" "$texture" "$layout" \
+      "$size" "$amplitude"
+  done
+}
+
 # summarize LABEL FLAGS
 summarize() {
   echo "$1, $(wc -l <"$2") cases: worse residual $(grep -c RES "$2" || true), worse normal" \
@@ -124,14 +145,7 @@ wave_flags=$work/waves/flags.txt
 : >"$wave_flags"
 for c in "${wide[@]}"; do
   read -r name model levels <<<"$c"
-  base=$work/wide/$name.base.ply
-  "$build/bench/peers/prepare_mesh" "$models/$model" "$base" --components largest \
-    --subdivide "$levels" >"$work/wide/$name.prepare.log"
-  for relief in "${reliefs[@]}"; do
-    read -r texture layout size amplitude <<<"$relief"
-    check_case "$work/wide" "$flags" "$name-$texture" "$base" "$texture" "$layout" "$size" \
-      "$amplitude"
-  done
+  check_model "$work/wide" "$flags" "$name" "$model" "$levels" "${reliefs[@]}"
 done
 summarize "wider check" "$flags"
 
@@ -145,6 +159,26 @@ for c in "${wide[@]}"; do
   done
 done
 summarize "waves and grooves" "$wave_flags"
+if [ "$broad" = 1 ]; then
+  # name, model, Loop levels; the thing is the wider check's, again.
+  broad_models=(
+    "thing Ogre/TheThing/Mesh.mesh.xml 1"
+    "grail SMD/holy_grailref.smd 1"
+    "dinosaur X/fromtruespace_bin32.x 1"
+    "crazy-engine LWO/LXOB_Modo/CrazyEngine.lxo 1"
+    "torus BLEND/TorusLightsCams_250_compressed.blend 1"
+    "rod X/anim_test.x 1"
+  )
+  mkdir -p "$work/broad"
+  broad_flags=$work/broad/flags.txt
+  : >"$broad_flags"
+  for c in "${broad_models[@]}"; do
+    read -r name model levels <<<"$c"
+    check_model "$work/broad" "$broad_flags" "$name" "$model" "$levels" "${reliefs[@]}" \
+      "${wave_reliefs[@]}"
+  done
+  summarize "broad check" "$broad_flags"
+fi
 if [ "$peers" = 1 ]; then
   "${DETEXTURE_PYTHON:-/usr/bin/python3}" "$(dirname "$0")/spot_check_peers.py" "$build" "$work/wide"
 fi
