@@ -96,9 +96,9 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   };
   // The surface stayed around p_i and ñ_i is a facet's (see the header):
   // its nearest neighbors' input normals agree with it, and its angle to
-  // n'_i is no larger than n' turns within ρ.
+  // n'_i (cosine tilt_cos) is no larger than n' turns within ρ.
   const auto facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given,
-                         const Eigen::RowVector3d& unit_output) {
+                         const Eigen::RowVector3d& unit_output, double tilt_cos) {
     int count = 0;
     for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && count < params.exact_neighbors;
          ++nb) {
@@ -108,13 +108,11 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       if (!(norm > 0.0) || std::abs(g.dot(unit_given)) < uniform_cos * norm) return false;
       ++count;
     }
-    const double tilt = std::acos(std::min(1.0, std::abs(unit_given.dot(unit_output))));
     for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
       if ((P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
       const Eigen::RowVector3d o = normals.row(*nb);
       const double norm = o.norm();
-      if (!(norm > 0.0)) continue;
-      if (std::acos(std::min(1.0, std::abs(o.dot(unit_output)) / norm)) >= tilt) return true;
+      if (norm > 0.0 && std::abs(o.dot(unit_output)) <= tilt_cos * norm) return true;
     }
     return false;
   };
@@ -139,7 +137,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       const bool close = by_exactness && c >= min_cos;
       const bool still = !close && by_stillness && c >= still_cos && m <= still_move;
       if ((close || still) && exact(i, unit_given) &&
-          (close || facet(i, unit_given, unit_output))) {
+          (close || facet(i, unit_given, unit_output, c))) {
         w = 1.0;
         ++exact_kept;
         still_kept += still;
