@@ -215,6 +215,115 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   EXPECT_GT(run(0.5 * lambda, turning, wide).still, 0u);
 }
 
+// Facets found past their edges: a flat grid (spacing 0.1, x and y in
+// [-1, 1]) folded by 20° at x = 0.05 into two facets, A (x <= 0, z = 0,
+// normal +z) and B (x >= 0.1), with exact input normals; every point moved
+// by 0.5 λ; output normals rounded across the fold, tilted about y by 20° ·
+// clamp((x + 0.15) / 0.4, 0, 1). At x = 0 and x = 0.1 the 8 nearest
+// neighbors reach the other facet (2 or 3 of them, 0.0176-0.034 off the
+// tangent plane against e λ = 0.0005), so the plain tests fail; the facet
+// test finds each one's facet among its 24 nearest (at least 12 members in
+// its plane, spread in both directions, the others 20° off) and takes the
+// input normal there: tilted 7.5° from the output normal, by the test where
+// the surface stayed (the output normals within ρ turn by 10° towards the
+// other facet). Not with K = 0, nor once the move exceeds μ λ; not where
+// the other facet's normals are 2° off (a gradual turn, more than t of
+// them), unless t allows them; not on a facet one column wide (its members
+// lie on one line).
+TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
+  constexpr int side = 21;
+  const double lambda = 0.01;
+  const double fold = 20.0 * M_PI / 180.0;
+  const auto s = test::bumpy_plane(side, 0.0, 1.0);
+  Positions P = s.P;
+  Normals given(P.rows(), 3), output(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double x = -1.0 + 0.1 * (i % side);
+    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
+                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
+    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
+                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
+    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
+    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
+  }
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  const auto run = [&](double move, const Normals& in, const KeepInputNormalsParams& q) {
+    Positions updated = P;
+    updated.col(1).array() += move;
+    return keep_input_normals(P, updated, in, output, {}, R, q);
+  };
+  // The columns x = -1 + 0.1 c whose input normal is taken, among
+  // -0.3 <= x <= 0.4, in row 10.
+  const auto taken_x = [&](const KeepInputNormalsResult& r, const Normals& in) {
+    std::vector<int> tenths;
+    for (int c = 7; c <= 14; ++c) {
+      const int i = 10 * side + c;
+      if (test::angle_deg(r.normals.row(i), in.row(i)) < 1e-9)
+        tenths.push_back(static_cast<int>(std::lround(P(i, 0) * 10.0)));
+      else
+        EXPECT_TRUE(r.normals.row(i) == output.row(i)) << i;
+    }
+    return tenths;
+  };
+  KeepInputNormalsParams p = params_at(0.25, lambda);
+  ASSERT_EQ(p.facet_neighbors, 24);
+  ASSERT_EQ(p.facet_spread, 0.1);
+  ASSERT_EQ(p.facet_jump, 3.0);
+  ASSERT_EQ(p.facet_transitional, 2);
+  const KeepInputNormalsResult r = run(0.5 * lambda, given, p);
+  EXPECT_EQ(taken_x(r, given), (std::vector<int>{-3, -2, -1, 0, 1, 2, 3, 4}));
+  KeepInputNormalsParams off = p;
+  off.facet_neighbors = 0;
+  const KeepInputNormalsResult r_off = run(0.5 * lambda, given, off);
+  EXPECT_EQ(taken_x(r_off, given), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+  EXPECT_EQ(r_off.facets, 0u);
+  // Every point the facet test adds is counted as such: in the rows whose
+  // 24 nearest lie within the grid (2-18), columns 0 and 0.1.
+  EXPECT_EQ(r.facets, r.exact - r_off.exact);
+  EXPECT_GE(r.facets, 2u * 17u);
+  EXPECT_EQ(taken_x(run(1.5 * lambda, given, p), given), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+  // B's input normals 2° from A's instead of 20°: to a point at the fold
+  // they turn gradually, not across an edge.
+  Normals gradual = given;
+  for (int i = 0; i < P.rows(); ++i)
+    if (P(i, 0) > 0.05) gradual.row(i) = Eigen::RowVector3d(-std::sin(0.035), 0.0, std::cos(0.035));
+  EXPECT_EQ(run(0.5 * lambda, gradual, p).facets, 0u);
+  KeepInputNormalsParams any = p;
+  any.facet_transitional = 24;
+  EXPECT_GT(run(0.5 * lambda, gradual, any).facets, 0u);
+  // A strip facet between A and B, tilted 10° (10° from each), output
+  // normals 2° from the input ones, k = 3: one column wide (x = 0), its
+  // members are its own column, a line, and it is not found; three columns
+  // wide, all of its points are taken (the middle one by the plain test).
+  // Counted over the strip's columns in rows 2-18.
+  const auto strip = [&](double half_width) {
+    const double tilt = 10.0 * M_PI / 180.0, turn = 2.0 * M_PI / 180.0;
+    Positions Q = P;
+    Normals in(P.rows(), 3), out(P.rows(), 3);
+    for (int i = 0; i < P.rows(); ++i) {
+      const double x = P(i, 0);
+      const double a = x < -half_width ? 0.0 : x < half_width ? tilt : fold;
+      Q(i, 2) = std::tan(tilt) * (std::clamp(x, -half_width, half_width) + half_width) +
+                std::tan(fold) * std::max(0.0, x - half_width);
+      in.row(i) = Eigen::RowVector3d(-std::sin(a), 0.0, std::cos(a));
+      out.row(i) = Eigen::RowVector3d(-std::sin(a + turn), 0.0, std::cos(a + turn));
+    }
+    Positions updated = Q;
+    updated.col(1).array() += 0.5 * lambda;
+    KeepInputNormalsParams q = p;
+    q.exact_neighbors = 3;
+    const KeepInputNormalsResult k =
+        keep_input_normals(Q, updated, in, out, {}, radius_neighborhoods(Q, {0.3, 0}), q);
+    int taken = 0;
+    for (int i = 0; i < P.rows(); ++i)
+      if (std::abs(P(i, 0)) < half_width && i / side >= 2 && i / side <= 18)
+        taken += test::angle_deg(k.normals.row(i), in.row(i)) < 1e-9;
+    return taken;
+  };
+  EXPECT_EQ(strip(0.05), 0);
+  EXPECT_EQ(strip(0.15), 3 * 17);
+}
+
 TEST(KeepInputNormals, BadInputIsRefused) {
   const auto s = test::bumpy_plane(5, 0.0, 1.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
@@ -256,6 +365,22 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   EXPECT_THROW(validate(p), std::invalid_argument);
   p = params_at(0.2, 0.01);
   p.still_uniform_deg = 90.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.facet_neighbors = 7;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.facet_neighbors = 0;
+  EXPECT_NO_THROW(validate(p));
+  p = params_at(0.2, 0.01);
+  p.facet_spread = 0.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.facet_spread = 1.5;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.facet_jump = 0.5;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.facet_transitional = -1;
   EXPECT_THROW(validate(p), std::invalid_argument);
   p = params_at(0.2, 0.01);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N.topRows(3), s.N, {}, R, p), std::invalid_argument);

@@ -343,7 +343,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     """Input normals are kept where nothing near the point moved (low 0.05,
     high 0.2, in units of λ), and exact ones (residual 0.05 λ over 8
     neighbors) within 4° of the fitted normal, and up to 20° where nothing
-    moved by more than λ (facets); keep_input_high = 0,
+    moved by more than λ (facets, also found past their edges among 24
+    neighbors); keep_input_high = 0,
     keep_input_exact_angle_deg = 0 and keep_input_still_angle_deg = 0 keep
     none, the same from Python and from the command line, and the positions
     do not change. The move alone and exactness alone each keep some (the
@@ -354,6 +355,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
             d["keep_input_exact_neighbors"]) == (4.0, 0.05, 8)
     assert (d["keep_input_still_angle_deg"], d["keep_input_still_move"],
             d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
+    assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
+            d["keep_input_facet_jump"], d["keep_input_facet_transitional"]) == (24, 0.1, 3.0, 2)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
     off = ["--keep-input-high", "0", "--keep-input-exact-angle", "0",
            "--keep-input-still-angle", "0"]
@@ -375,6 +378,13 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         detexture.remove_texture(cloud, radius=0.09, keep_input_exact_angle_deg=95.0)
     with pytest.raises(ValueError, match="still-move"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_still_move=-1.0)
+    # Facets found past their edges (the cube's faces near its edges): off
+    # takes fewer input normals.
+    _, with_facets, without = default_and_option(
+        cube, work, ["--keep-input-facet-neighbors", "0"], keep_input_facet_neighbors=0)
+    assert without.report.input_normals_kept < with_facets.report.input_normals_kept
+    with pytest.raises(ValueError, match="facet-neighbors"):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_facet_neighbors=4)
 
 
 def test_counter_moves_match_the_command_line(work):

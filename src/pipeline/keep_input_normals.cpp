@@ -1,5 +1,6 @@
 #include "detexture/pipeline/keep_input_normals.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -52,6 +53,20 @@ void validate(const KeepInputNormalsParams& p) {
     throw std::invalid_argument(
         "the exactness test of input normals needs at least 3 neighbors, got " +
         number_text(p.exact_neighbors));
+  if (p.facet_neighbors != 0 && p.facet_neighbors < p.exact_neighbors)
+    throw std::invalid_argument(
+        "the facet test of input normals (--keep-input-facet-neighbors) reads 0 (off) or at "
+        "least as many neighbors as the exactness test (" +
+        number_text(p.exact_neighbors) + "), got " + number_text(p.facet_neighbors));
+  if (!(p.facet_spread > 0.0 && p.facet_spread <= 1.0))
+    throw std::invalid_argument("the facet test's spread must lie in (0, 1], got " +
+                                number_text(p.facet_spread));
+  if (!(p.facet_jump >= 1.0) || !std::isfinite(p.facet_jump))
+    throw std::invalid_argument("the facet test's jump must be >= 1, got " +
+                                number_text(p.facet_jump));
+  if (p.facet_transitional < 0)
+    throw std::invalid_argument("the facet test's transitional count must be >= 0, got " +
+                                number_text(p.facet_transitional));
 }
 
 KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& updated,
@@ -94,11 +109,54 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     }
     return count >= 3 && sum <= max_residual * count;
   };
+  // ñ_i is a flat facet's, read past its edges (F_i in the header).
+  const double jump_cos =
+      std::cos(std::min(90.0, params.facet_jump * params.still_uniform_deg) * M_PI / 180.0);
+  const auto flat_facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
+    if (params.facet_neighbors == 0) return false;
+    int looked = 0, members = 0, transitional = 0;
+    double sum = 0.0;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && looked < params.facet_neighbors;
+         ++nb) {
+      if (*nb == i) continue;
+      ++looked;
+      const Eigen::RowVector3d g = input_normals.row(*nb);
+      const double norm = g.norm();
+      if (!(norm > 0.0)) continue;
+      const double c = std::abs(g.dot(unit_given));
+      if (c < uniform_cos * norm) {
+        if (c >= jump_cos * norm && ++transitional > params.facet_transitional) return false;
+        continue;
+      }
+      const Eigen::Vector3d d = (P.row(*nb) - P.row(i)).transpose();
+      sum += std::abs(unit_given.dot(d.transpose()));
+      mean += d;
+      second += d * d.transpose();
+      ++members;
+    }
+    if (members < params.exact_neighbors || sum > max_residual * members) return false;
+    mean /= members;
+    const Eigen::Matrix3d cov = second / members - mean * mean.transpose();
+    const Eigen::Vector3d spread =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
+    return spread(1) >= params.facet_spread * spread(2);
+  };
+  // ñ_i's angle to n'_i (cosine tilt_cos) is no larger than n' turns within
+  // ρ (the cone).
+  const auto cone = [&](std::size_t i, const Eigen::RowVector3d& unit_output, double tilt_cos) {
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+      if ((P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
+      const Eigen::RowVector3d o = normals.row(*nb);
+      const double norm = o.norm();
+      if (norm > 0.0 && std::abs(o.dot(unit_output)) <= tilt_cos * norm) return true;
+    }
+    return false;
+  };
   // The surface stayed around p_i and ñ_i is a facet's (see the header):
-  // its nearest neighbors' input normals agree with it, and its angle to
-  // n'_i (cosine tilt_cos) is no larger than n' turns within ρ.
-  const auto facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given,
-                         const Eigen::RowVector3d& unit_output, double tilt_cos) {
+  // its nearest neighbors' input normals agree with it.
+  const auto uniform = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
     int count = 0;
     for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && count < params.exact_neighbors;
          ++nb) {
@@ -108,16 +166,11 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       if (!(norm > 0.0) || std::abs(g.dot(unit_given)) < uniform_cos * norm) return false;
       ++count;
     }
-    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
-      if ((P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
-      const Eigen::RowVector3d o = normals.row(*nb);
-      const double norm = o.norm();
-      if (norm > 0.0 && std::abs(o.dot(unit_output)) <= tilt_cos * norm) return true;
-    }
-    return false;
+    return true;
   };
-  std::size_t kept = 0, exact_kept = 0, still_kept = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : kept, exact_kept, still_kept)
+  std::size_t kept = 0, exact_kept = 0, still_kept = 0, facet_kept = 0;
+#pragma omp parallel for schedule(dynamic, 256) \
+    reduction(+ : kept, exact_kept, still_kept, facet_kept)
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_texture.empty() && is_texture[i]) continue;
     const Eigen::RowVector3d given = input_normals.row(i);
@@ -136,11 +189,17 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       const double c = std::abs(unit_given.dot(unit_output));
       const bool close = by_exactness && c >= min_cos;
       const bool still = !close && by_stillness && c >= still_cos && m <= still_move;
-      if ((close || still) && exact(i, unit_given) &&
-          (close || facet(i, unit_given, unit_output, c))) {
-        w = 1.0;
-        ++exact_kept;
-        still_kept += still;
+      if (close || still) {
+        // The nearest neighbors read as one plane, or the facet found past
+        // its edges; where the surface stayed, the cone as well.
+        const bool plain = exact(i, unit_given) && (close || uniform(i, unit_given));
+        const bool found = !plain && flat_facet(i, unit_given);
+        if ((plain || found) && (close || cone(i, unit_output, c))) {
+          w = 1.0;
+          ++exact_kept;
+          still_kept += still;
+          facet_kept += found;
+        }
       }
     }
     if (w == 0.0) continue;
@@ -155,6 +214,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   out.kept = kept;
   out.exact = exact_kept;
   out.still = still_kept;
+  out.facets = facet_kept;
   return out;
 }
 

@@ -74,6 +74,35 @@
 // only). Without the uniform test the waves took their tilts (the knot
 // +3.4%); without the cone, the pyramid's V grooves (+1.9%; +16 to +23%
 // with a move of 2-3 λ).
+//
+// Facets found past their edges (session 24): both tests above read the k
+// nearest neighbors as one plane, so on a faceted base whose facets are a
+// few point spacings wide they fail within a spacing or two of every edge,
+// most of such a facet: on the spot check's faerie, whose input normals are
+// exact at 73% of the points, the output took them at 30% (44% with this
+// test). ñ_i also counts as exact (both tests) where it is a flat facet's:
+//
+//   F_i = { j among the K nearest of R_i : ∠(ñ_j, ñ_i) <= φ },
+//   |F_i| >= k,   (1/|F_i|) Σ_{j ∈ F_i} |ñ_i·(p_j - p_i)| <= e λ,
+//   σ_2(F_i) >= s σ_1(F_i),   #{ j among the K : φ < ∠(ñ_j, ñ_i) <= c φ } <= t,
+//
+// with K = facet_neighbors, s = facet_spread, c = facet_jump, t =
+// facet_transitional, σ_1 >= σ_2 the largest eigenvalues of the covariance
+// of F_i's positions. The members of its facet lie in its tangent plane and
+// spread in two directions (not a line along a cylinder's or a wave's
+// ruling, whose normals also agree); and the other neighbors' normals are
+// off by a jump, an edge's, not by a gradual turn, a wave's flank or a
+// smooth surface's, where many lie just past φ. The move and cone tests
+// still apply. Measured on both quality suites and 96 unseen cases, normal
+// error (bench/quality_real_notes.md, session 24): -3.7% on the spot
+// check's 30 dense reliefs (sydney's bumps -17%, the faerie's -10%), -1.8%
+// on its 30 waves and grooves, -2.3% on the broad check's 36; bench/quality
+// -2.9% (the plane with domes -19%; the pyramid +0.5% the most), the real
+// suite -1.5%; residual texture and Dmax unchanged (normals only). Without
+// the jump test the waves took their flanks (the broad torus's +0.7%); the
+// move bound stays the largest move within ρ: with the own move only (or
+// within 0.5 ρ), the faerie's bumps -18% but the axe's V grooves +15%
+// (+9%), whose walls stay where the bottom moved.
 #pragma once
 
 #include <cstddef>
@@ -117,6 +146,18 @@ struct KeepInputNormalsParams {
   /// φ: ... and the input normals of its exact_neighbors nearest neighbors
   /// lie within this angle of it, in degrees; in [0, 90).
   double still_uniform_deg = 1.0;
+  /// K: how many nearest neighbors the facet test (above) reads; 0 turns it
+  /// off (before session 24), else >= exact_neighbors.
+  int facet_neighbors = 24;
+  /// s: the facet's members must spread in two directions: the second
+  /// eigenvalue of their covariance at least this share of the first; in
+  /// (0, 1].
+  double facet_spread = 0.1;
+  /// c: neighbors whose input normal lies between φ and this multiple of φ
+  /// from ñ_i turn gradually (not across an edge); >= 1.
+  double facet_jump = 3.0;
+  /// t: at most this many such neighbors among the K; >= 0.
+  int facet_transitional = 2;
 };
 
 struct KeepInputNormalsResult {
@@ -124,6 +165,8 @@ struct KeepInputNormalsResult {
   std::size_t kept = 0;   ///< points whose output took the input normal, fully or in part
   std::size_t exact = 0;  ///< ... of which taken fully as exact (θ, e above) and not for the move
   std::size_t still = 0;  ///< ... of which (of exact) taken where the surface stayed (θ_s above)
+  std::size_t facets =
+      0;  ///< ... of which (of exact) taken only because the facet test found their facet
 };
 
 void validate(const KeepInputNormalsParams& params);
