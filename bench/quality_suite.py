@@ -278,10 +278,14 @@ DETEXTURE_VARIANTS = [
      "exact (noise-free) input normals not kept where the points moved, neither within 4° of "
      "the fitted ones nor up to 20° where the surface stayed (keep_input_normals.h; the "
      "default before session 21)"),
-    ("no-still-input", ["--keep-input-still-angle", "0"],
+    ("no-still-input", ["--keep-input-still-angle", "0", "--keep-input-facet-neighbors", "0"],
      "exact input normals kept within 4° of the fitted ones only, not up to 20° where nothing "
      "within the solve radius moved by more than λ and they are a facet's "
      "(keep_input_normals.h; the default before session 23)"),
+    ("no-facet-input", ["--keep-input-facet-neighbors", "0"],
+     "exact input normals read from their 8 nearest neighbors as one plane only, not also "
+     "from their facet among 24 past its edges (keep_input_normals.h; the default before "
+     "session 24)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),
