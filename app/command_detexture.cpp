@@ -599,9 +599,11 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--keep-input-facet-neighbors", params.keep_input.facet_neighbors,
                  "Output normals: an input normal also counts as exact where, among this many "
-                 "nearest neighbors, those whose input normals agree with it (a facet) lie in "
-                 "its tangent plane, spread in two directions, and the others' normals differ "
-                 "by a jump (an edge): facets a few points wide; 0 for none")
+                 "nearest neighbors, those whose input normals lie within "
+                 "--keep-input-still-uniform of it (its facet, at least 8) lie in its tangent "
+                 "plane and spread in two directions, and at most 2 others turn gradually (up "
+                 "to 3 times that angle) instead of by an edge's jump: facets a few points "
+                 "wide; 0 for none")
       ->capture_default_str();
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "

@@ -342,7 +342,6 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--keep-input-still-angle 90",
                            "--keep-input-still-move -1",
                            "--keep-input-still-uniform 95",
-                           "--keep-input-facet-neighbors 4",
                            "--keep-input-facet-neighbors -1",
                            "--counter-move-limit -1",
                            "--counter-move-lean 0",

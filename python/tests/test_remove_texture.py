@@ -384,7 +384,7 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         cube, work, ["--keep-input-facet-neighbors", "0"], keep_input_facet_neighbors=0)
     assert without.report.input_normals_kept < with_facets.report.input_normals_kept
     with pytest.raises(ValueError, match="facet-neighbors"):
-        detexture.remove_texture(cloud, radius=0.09, keep_input_facet_neighbors=4)
+        detexture.remove_texture(cloud, radius=0.09, keep_input_facet_neighbors=-1)
 
 
 def test_counter_moves_match_the_command_line(work):

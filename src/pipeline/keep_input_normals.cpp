@@ -53,20 +53,26 @@ void validate(const KeepInputNormalsParams& p) {
     throw std::invalid_argument(
         "the exactness test of input normals needs at least 3 neighbors, got " +
         number_text(p.exact_neighbors));
-  if (p.facet_neighbors != 0 && p.facet_neighbors < p.exact_neighbors)
+  if (p.facet_neighbors < 0)
     throw std::invalid_argument(
-        "the facet test of input normals (--keep-input-facet-neighbors) reads 0 (off) or at "
-        "least as many neighbors as the exactness test (" +
-        number_text(p.exact_neighbors) + "), got " + number_text(p.facet_neighbors));
+        "the number of neighbors the facet test of input normals reads "
+        "(--keep-input-facet-neighbors) must be >= 0 (0: off), got " +
+        number_text(p.facet_neighbors));
   if (!(p.facet_spread > 0.0 && p.facet_spread <= 1.0))
-    throw std::invalid_argument("the facet test's spread must lie in (0, 1], got " +
-                                number_text(p.facet_spread));
+    throw std::invalid_argument(
+        "the facet test's spread (KeepInputNormalsParams::facet_spread, Python "
+        "keep_input_facet_spread) must lie in (0, 1], got " +
+        number_text(p.facet_spread));
   if (!(p.facet_jump >= 1.0) || !std::isfinite(p.facet_jump))
-    throw std::invalid_argument("the facet test's jump must be >= 1, got " +
-                                number_text(p.facet_jump));
+    throw std::invalid_argument(
+        "the facet test's jump (KeepInputNormalsParams::facet_jump, Python "
+        "keep_input_facet_jump) must be >= 1, got " +
+        number_text(p.facet_jump));
   if (p.facet_transitional < 0)
-    throw std::invalid_argument("the facet test's transitional count must be >= 0, got " +
-                                number_text(p.facet_transitional));
+    throw std::invalid_argument(
+        "the facet test's transitional count (KeepInputNormalsParams::facet_transitional, "
+        "Python keep_input_facet_transitional) must be >= 0, got " +
+        number_text(p.facet_transitional));
 }
 
 KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& updated,
@@ -110,16 +116,18 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     return count >= 3 && sum <= max_residual * count;
   };
   // ñ_i is a flat facet's, read past its edges (F_i in the header).
-  const double jump_cos =
-      std::cos(std::min(90.0, params.facet_jump * params.still_uniform_deg) * M_PI / 180.0);
+  // Angles are unsigned (|cos|), so at c φ >= 90° every non-member counts.
+  const double jump_angle = params.facet_jump * params.still_uniform_deg;
+  const double jump_cos = jump_angle >= 90.0 ? 0.0 : std::cos(jump_angle * M_PI / 180.0);
+  const int facet_neighbors =
+      params.facet_neighbors == 0 ? 0 : std::max(params.facet_neighbors, params.exact_neighbors);
   const auto flat_facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
-    if (params.facet_neighbors == 0) return false;
+    if (facet_neighbors == 0) return false;
     int looked = 0, members = 0, transitional = 0;
     double sum = 0.0;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && looked < params.facet_neighbors;
-         ++nb) {
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && looked < facet_neighbors; ++nb) {
       if (*nb == i) continue;
       ++looked;
       const Eigen::RowVector3d g = input_normals.row(*nb);
@@ -141,7 +149,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     const Eigen::Matrix3d cov = second / members - mean * mean.transpose();
     const Eigen::Vector3d spread =
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly).eigenvalues();
-    return spread(1) >= params.facet_spread * spread(2);
+    return spread(2) > 0.0 && spread(1) >= params.facet_spread * spread(2);
   };
   // ñ_i's angle to n'_i (cosine tilt_cos) is no larger than n' turns within
   // ρ (the cone).

@@ -86,22 +86,21 @@
 //   |F_i| >= k,   (1/|F_i|) Σ_{j ∈ F_i} |ñ_i·(p_j - p_i)| <= e λ,
 //   σ_2(F_i) >= s σ_1(F_i),   #{ j among the K : φ < ∠(ñ_j, ñ_i) <= c φ } <= t,
 //
-// with K = facet_neighbors, s = facet_spread, c = facet_jump, t =
-// facet_transitional, σ_1 >= σ_2 the largest eigenvalues of the covariance
-// of F_i's positions. The members of its facet lie in its tangent plane and
-// spread in two directions (not a line along a cylinder's or a wave's
-// ruling, whose normals also agree); and the other neighbors' normals are
-// off by a jump, an edge's, not by a gradual turn, a wave's flank or a
-// smooth surface's, where many lie just past φ. The move and cone tests
-// still apply. Measured on both quality suites and 96 unseen cases, normal
-// error (bench/quality_real_notes.md, session 24): -3.7% on the spot
-// check's 30 dense reliefs (sydney's bumps -17%, the faerie's -10%), -1.8%
-// on its 30 waves and grooves, -2.3% on the broad check's 36; bench/quality
-// -2.9% (the plane with domes -19%; the pyramid +0.5% the most), the real
-// suite -1.5%; residual texture and Dmax unchanged (normals only). Without
-// the jump test the waves took their flanks (the broad torus's +0.7%); the
-// move bound stays the largest move within ρ: with the own move only (or
-// within 0.5 ρ), the faerie's bumps -18% but the axe's V grooves +15%
+// with K = facet_neighbors (at least k), s = facet_spread, c = facet_jump,
+// t = facet_transitional, σ_1 >= σ_2 the largest eigenvalues of the
+// covariance of F_i's positions (σ_1 > 0), angles between normals unsigned
+// (|ñ_j·ñ_i|), and neighbors without a normal counted among the K but in
+// neither set. With φ = 0 no neighbor is transitional. The members of its facet lie in its tangent
+// plane and spread in two directions (not a line along a cylinder's or a wave's ruling, whose
+// normals also agree); and the other neighbors' normals are off by a jump, an edge's, not by a
+// gradual turn, a wave's flank or a smooth surface's, where many lie just past φ. The move and cone
+// tests still apply. Measured on both quality suites and 96 unseen cases, normal error
+// (bench/quality_real_notes.md, session 24): -3.7% on the spot check's 30 dense reliefs (sydney's
+// bumps -17%, the faerie's -10%), -1.8% on its 30 waves and grooves, -2.3% on the broad check's 36;
+// bench/quality -2.9% (the plane with domes -19%; the pyramid +0.5% the most), the real suite
+// -1.5%; residual texture and Dmax unchanged (normals only). Without the jump test the waves took
+// their flanks (the broad torus's +0.7%); the move bound stays the largest move within ρ: with the
+// own move only (or within 0.5 ρ), the faerie's bumps -18% but the axe's V grooves +15%
 // (+9%), whose walls stay where the bottom moved.
 #pragma once
 
@@ -146,15 +145,16 @@ struct KeepInputNormalsParams {
   /// φ: ... and the input normals of its exact_neighbors nearest neighbors
   /// lie within this angle of it, in degrees; in [0, 90).
   double still_uniform_deg = 1.0;
-  /// K: how many nearest neighbors the facet test (above) reads; 0 turns it
-  /// off (before session 24), else >= exact_neighbors.
+  /// K: how many nearest neighbors the facet test (above) reads; >= 0, 0
+  /// turns it off (before session 24); fewer than exact_neighbors reads
+  /// exact_neighbors.
   int facet_neighbors = 24;
   /// s: the facet's members must spread in two directions: the second
   /// eigenvalue of their covariance at least this share of the first; in
   /// (0, 1].
   double facet_spread = 0.1;
   /// c: neighbors whose input normal lies between φ and this multiple of φ
-  /// from ñ_i turn gradually (not across an edge); >= 1.
+  /// from ñ_i (at most 90°) turn gradually (not across an edge); >= 1.
   double facet_jump = 3.0;
   /// t: at most this many such neighbors among the K; >= 0.
   int facet_transitional = 2;
