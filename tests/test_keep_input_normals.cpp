@@ -20,6 +20,20 @@ KeepInputNormalsParams params_at(double radius, double lambda) {
   return p;
 }
 
+// 10 x of the points first..last (one row of a grid) whose output took the
+// input normal `in`; every other one must have kept `output`.
+std::vector<int> taken_tenths(const KeepInputNormalsResult& r, const Positions& P,
+                              const Normals& in, const Normals& output, int first, int last) {
+  std::vector<int> tenths;
+  for (int i = first; i <= last; ++i) {
+    if (test::angle_deg(r.normals.row(i), in.row(i)) < 1e-9)
+      tenths.push_back(static_cast<int>(std::lround(P(i, 0) * 10.0)));
+    else
+      EXPECT_TRUE(r.normals.row(i) == output.row(i)) << i;
+  }
+  return tenths;
+}
+
 // A plane whose points do not move, except one that moves by 1 (a bump
 // taken down); the output normals so far are tilted by 10°. Points farther
 // than ρ from the moved one take their input normal, exactly; the moved
@@ -173,15 +187,7 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   };
   // The columns x = -1 + 0.1 c whose input normal is taken, in row 10.
   const auto taken_x = [&](const KeepInputNormalsResult& r) {
-    std::vector<int> tenths;
-    for (int c = 0; c < side; ++c) {
-      const int i = 10 * side + c;
-      if (test::angle_deg(r.normals.row(i), given.row(i)) < 1e-9)
-        tenths.push_back(static_cast<int>(std::lround(P(i, 0) * 10.0)));
-      else
-        EXPECT_TRUE(r.normals.row(i) == output.row(i)) << i;
-    }
-    return tenths;
+    return taken_tenths(r, P, given, output, 10 * side, 10 * side + side - 1);
   };
   KeepInputNormalsParams p = params_at(0.25, lambda);
   ASSERT_EQ(p.still_angle_deg, 20.0);
@@ -255,15 +261,7 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   // The columns x = -1 + 0.1 c whose input normal is taken, among
   // -0.3 <= x <= 0.4, in row 10.
   const auto taken_x = [&](const KeepInputNormalsResult& r, const Normals& in) {
-    std::vector<int> tenths;
-    for (int c = 7; c <= 14; ++c) {
-      const int i = 10 * side + c;
-      if (test::angle_deg(r.normals.row(i), in.row(i)) < 1e-9)
-        tenths.push_back(static_cast<int>(std::lround(P(i, 0) * 10.0)));
-      else
-        EXPECT_TRUE(r.normals.row(i) == output.row(i)) << i;
-    }
-    return tenths;
+    return taken_tenths(r, P, in, output, 10 * side + 7, 10 * side + 14);
   };
   KeepInputNormalsParams p = params_at(0.25, lambda);
   ASSERT_EQ(p.facet_neighbors, 24);
