@@ -605,6 +605,17 @@ int run_detexture(int argc, char** argv) {
                  "to 3 times that angle) instead of by an edge's jump: facets a few points "
                  "wide; 0 for none")
       ->capture_default_str();
+  app.add_option("--keep-input-still-reach", params.keep_input.still_reach,
+                 "Output normals: for --keep-input-still-angle, some fitted normal within "
+                 "--solve-radius must lie within this fraction of the input normal's angle to "
+                 "the point's own fitted normal of it (the fitted normals reach towards it, as "
+                 "on a rounded facet), in [0, 1); 0 for the cone test instead (they turn as "
+                 "much in any direction, before session 25)")
+      ->capture_default_str();
+  app.add_flag("!--keep-input-still-any-move", params.keep_input.still_facet_move,
+               "Output normals: for --keep-input-still-angle the surface counts as stayed only "
+               "where no point within --solve-radius moved by more than --keep-input-still-move "
+               "λ, not also where none of the point's facet did (before session 25)");
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")

@@ -282,10 +282,16 @@ DETEXTURE_VARIANTS = [
      "exact input normals kept within 4° of the fitted ones only, not up to 20° where nothing "
      "within the solve radius moved by more than λ and they are a facet's "
      "(keep_input_normals.h; the default before session 23)"),
-    ("no-facet-input", ["--keep-input-facet-neighbors", "0"],
+    ("no-facet-input", ["--keep-input-facet-neighbors", "0", "--keep-input-still-reach", "0",
+                        "--keep-input-still-any-move"],
      "exact input normals read from their 8 nearest neighbors as one plane only, not also "
      "from their facet among 24 past its edges (keep_input_normals.h; the default before "
      "session 24)"),
+    ("no-reach-input", ["--keep-input-still-reach", "0", "--keep-input-still-any-move"],
+     "where the surface stayed, exact input normals taken where the fitted normals within the "
+     "solve radius turn as much in any direction (the cone), not where they reach towards the "
+     "input normal, and only where no point within it moved by more than λ, not also where "
+     "none of the point's facet did (keep_input_normals.h; the default before session 25)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

@@ -343,6 +343,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--keep-input-still-move -1",
                            "--keep-input-still-uniform 95",
                            "--keep-input-facet-neighbors -1",
+                           "--keep-input-still-reach 1",
+                           "--keep-input-still-reach -0.5",
                            "--counter-move-limit -1",
                            "--counter-move-lean 0",
                            "--counter-move-lean 1.5",

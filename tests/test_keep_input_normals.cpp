@@ -157,11 +157,15 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWithinTheAngle) {
 // output normals tilted about y by 50° x², as a rounded surface's would
 // be. Within ρ = 0.25 (±0.2 in x) the output normals around x turn by up
 // to 50° ((|x| + 0.2)² - x²) = 20°|x| + 2°, so the tilt 50° x² lies within
-// that turn for |x| <= 0.48: at x = ±0.3 (4.5°) and ±0.4 (8°) the input
-// normal is taken by this test (at |x| <= 0.2, 2° at most, by the 4° one);
-// at ±0.5 (12.5° against 12°) and beyond it is not, nor anywhere once the
-// move exceeds μ λ, nor with θ_s = 0, nor when the neighbors' input normals
-// disagree by more than φ, nor above θ_s.
+// that turn for |x| <= 0.48 (the cone, before session 25). The reach asks
+// more directly: some output normal within ρ lies within α = 0.5 of the
+// tilt of +z, 50° x'² <= 25° x², |x'| <= |x| / √2, which x' = x ∓ 0.2 meets
+// for 0.3 <= |x| (0.1 at 0.3, 0.4 at 0.6). So at x = ±0.3 (4.5°) to ±0.6
+// (18°) the input normal is taken by this test (at |x| <= 0.2, 2° at most,
+// by the 4° one); at ±0.7 (24.5°) it is not, being past θ_s = 20°; with the
+// cone, ±0.3 and ±0.4 only (±0.5: 12.5° against a turn of 12°). Nowhere once
+// the move exceeds μ λ, nor with θ_s = 0, nor when the neighbors' input
+// normals disagree by more than φ, nor above θ_s.
 TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   constexpr int side = 21;
   const double lambda = 0.01;
@@ -193,16 +197,22 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   ASSERT_EQ(p.still_angle_deg, 20.0);
   ASSERT_EQ(p.still_move, 1.0);
   ASSERT_EQ(p.still_uniform_deg, 1.0);
+  ASSERT_EQ(p.still_reach, 0.5);
   const KeepInputNormalsResult r = run(0.5 * lambda, given, p);
-  EXPECT_EQ(taken_x(r), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
-  // Columns ±0.3 and ±0.4 of all 21 rows are taken by this test.
-  EXPECT_EQ(r.still, 4u * side);
+  EXPECT_EQ(taken_x(r), (std::vector<int>{-6, -5, -4, -3, -2, -1, 0, 1, 2, 3, 4, 5, 6}));
+  // Columns ±0.3 to ±0.6 of all 21 rows are taken by this test.
+  EXPECT_EQ(r.still, 8u * side);
   EXPECT_EQ(r.kept, r.exact);
+  KeepInputNormalsParams cone = p;
+  cone.still_reach = 0.0;
+  const KeepInputNormalsResult by_cone = run(0.5 * lambda, given, cone);
+  EXPECT_EQ(taken_x(by_cone), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
+  EXPECT_EQ(by_cone.still, 4u * side);
   // Moved farther than μ λ: only the 4° test.
   EXPECT_EQ(taken_x(run(1.5 * lambda, given, p)), (std::vector<int>{-2, -1, 0, 1, 2}));
   KeepInputNormalsParams loose = p;
   loose.still_move = 2.0;
-  EXPECT_EQ(run(1.5 * lambda, given, loose).still, 4u * side);
+  EXPECT_EQ(run(1.5 * lambda, given, loose).still, 8u * side);
   KeepInputNormalsParams off = p;
   off.still_angle_deg = 0.0;
   EXPECT_EQ(taken_x(run(0.5 * lambda, given, off)), (std::vector<int>{-2, -1, 0, 1, 2}));
@@ -322,6 +332,86 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   EXPECT_EQ(strip(0.15), 3 * 17);
 }
 
+// The reach against the cone: a flat wall z = y tan 8° (spacing 0.1, x and
+// y in [-1, 1]) with exact input normals tilted 8° about x, on a surface
+// whose output normals turn about y by 50° x (as on a curved base, along
+// the wall): every point moved by 0.5 λ. At x the tilt is
+// acos(cos 50° x cos 8°), at least 8°, and no output normal lies closer to
+// ñ than 8° (cos 50° x' cos 8° <= cos 8°), more than half of any tilt under
+// 16°; past |x| = 0.4 the tilt exceeds θ_s = 20°. So the reach takes none.
+// The cone takes x = 0 and ±0.1, whose tilts (8°, 9.4°) are within the 10°
+// the output normals turn within ρ (±0.2 in x), in every row; at ±0.2 the
+// tilt is 12.8°.
+TEST(KeepInputNormals, TheReachTurnsAwayAWallOnACurvedBase) {
+  constexpr int side = 21;
+  const double lambda = 0.01;
+  const double wall = 8.0 * M_PI / 180.0;
+  const auto s = test::bumpy_plane(side, 0.0, 1.0);
+  Positions P = s.P;
+  Normals given(P.rows(), 3), output(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double x = -1.0 + 0.1 * (i % side), y = -1.0 + 0.1 * (i / side);
+    P.row(i) = Eigen::RowVector3d(x, y, y * std::tan(wall));
+    given.row(i) = Eigen::RowVector3d(0.0, -std::sin(wall), std::cos(wall));
+    const double b = 50.0 * x * M_PI / 180.0;
+    output.row(i) = Eigen::RowVector3d(std::sin(b), 0.0, std::cos(b));
+  }
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  Positions updated = P;
+  updated.col(0).array() += 0.5 * lambda;
+  KeepInputNormalsParams p = params_at(0.25, lambda);
+  const KeepInputNormalsResult r = keep_input_normals(P, updated, given, output, {}, R, p);
+  EXPECT_TRUE(taken_tenths(r, P, given, output, 10 * side, 10 * side + side - 1).empty());
+  EXPECT_EQ(r.kept, 0u);
+  KeepInputNormalsParams cone = p;
+  cone.still_reach = 0.0;
+  const KeepInputNormalsResult c = keep_input_normals(P, updated, given, output, {}, R, cone);
+  EXPECT_EQ(taken_tenths(c, P, given, output, 10 * side, 10 * side + side - 1),
+            (std::vector<int>{-1, 0, 1}));
+  EXPECT_EQ(c.still, 3u * side);
+}
+
+// The facet's move: the fold above, where B's points from x = 0.2 on moved
+// by 1.5 λ (relief beside the facets, taken down) and the rest by 0.5 λ.
+// A's column x = 0 has B's x = 0.2 within ρ (0.21 away), so the largest
+// move there exceeds μ λ; none of its facet within ρ (A's points, 1° or
+// less from its normal) moved by as much, so its input normal is taken, as
+// before the move (tilt 7.5°, and A's x = -0.1 has an output normal 2.5°
+// from it, within half of that). B's x = 0.1 is not: its own facet's
+// x = 0.2 moved. B's x = 0.2 to 0.4 are taken by the 4° test (tilts of
+// 2.5° and less), whatever moved. Without the facet's move, x = 0 is not
+// taken.
+TEST(KeepInputNormals, AFacetBesideReliefThatMovedStayed) {
+  constexpr int side = 21;
+  const double lambda = 0.01;
+  const double fold = 20.0 * M_PI / 180.0;
+  const auto s = test::bumpy_plane(side, 0.0, 1.0);
+  Positions P = s.P;
+  Normals given(P.rows(), 3), output(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double x = -1.0 + 0.1 * (i % side);
+    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
+                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
+    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
+                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
+    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
+    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
+  }
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  Positions updated = P;
+  for (int i = 0; i < P.rows(); ++i) updated(i, 1) += (P(i, 0) > 0.15 ? 1.5 : 0.5) * lambda;
+  KeepInputNormalsParams p = params_at(0.25, lambda);
+  ASSERT_TRUE(p.still_facet_move);
+  const auto taken_x = [&](const KeepInputNormalsParams& q) {
+    const KeepInputNormalsResult r = keep_input_normals(P, updated, given, output, {}, R, q);
+    return taken_tenths(r, P, given, output, 10 * side + 7, 10 * side + 14);
+  };
+  EXPECT_EQ(taken_x(p), (std::vector<int>{-3, -2, -1, 0, 2, 3, 4}));
+  KeepInputNormalsParams ball = p;
+  ball.still_facet_move = false;
+  EXPECT_EQ(taken_x(ball), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+}
+
 TEST(KeepInputNormals, BadInputIsRefused) {
   const auto s = test::bumpy_plane(5, 0.0, 1.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
@@ -382,6 +472,15 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   p = params_at(0.2, 0.01);
   p.facet_transitional = -1;
   EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.still_reach = 1.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.still_reach = -0.1;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.still_reach = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.still_reach = 0.0;  // the cone
+  EXPECT_NO_THROW(validate(p));
   p = params_at(0.2, 0.01);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N.topRows(3), s.N, {}, R, p), std::invalid_argument);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N, s.N, std::vector<std::uint8_t>(2, 0), R, p),

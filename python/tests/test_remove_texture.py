@@ -357,6 +357,7 @@ def test_keep_input_normals_match_the_command_line(cube, work):
             d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
     assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
             d["keep_input_facet_jump"], d["keep_input_facet_transitional"]) == (24, 0.1, 3.0, 2)
+    assert (d["keep_input_still_reach"], d["keep_input_still_facet_move"]) == (0.5, True)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
     off = ["--keep-input-high", "0", "--keep-input-exact-angle", "0",
            "--keep-input-still-angle", "0"]
@@ -385,6 +386,13 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert without.report.input_normals_kept < with_facets.report.input_normals_kept
     with pytest.raises(ValueError, match="facet-neighbors"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_facet_neighbors=-1)
+    # The cone and the move over the whole ball (before session 25): the same
+    # from both sides.
+    default_and_option(
+        cube, work, ["--keep-input-still-reach", "0", "--keep-input-still-any-move"],
+        keep_input_still_reach=0.0, keep_input_still_facet_move=False)
+    with pytest.raises(ValueError, match="still-reach"):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_still_reach=1.0)
 
 
 def test_counter_moves_match_the_command_line(work):

@@ -68,6 +68,11 @@ void validate(const KeepInputNormalsParams& p) {
         "the facet test's jump (KeepInputNormalsParams::facet_jump, Python "
         "keep_input_facet_jump) must be >= 1, got " +
         number_text(p.facet_jump));
+  if (!(p.still_reach >= 0.0 && p.still_reach < 1.0))
+    throw std::invalid_argument(
+        "the reach of the output normals where the surface stayed (--keep-input-still-reach) "
+        "must lie in [0, 1), got " +
+        number_text(p.still_reach));
   if (p.facet_transitional < 0)
     throw std::invalid_argument(
         "the facet test's transitional count (KeepInputNormalsParams::facet_transitional, "
@@ -162,6 +167,30 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     }
     return false;
   };
+  // Some n'_j within ρ (or n'_i) lies within α times ñ_i's tilt (angle
+  // tilt) of ñ_i (the reach).
+  const auto reach = [&](std::size_t i, const Eigen::RowVector3d& unit_given, double tilt) {
+    const double reach_cos = std::cos(params.still_reach * tilt);
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+      if ((P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
+      const Eigen::RowVector3d o = normals.row(*nb);
+      const double norm = o.norm();
+      if (norm > 0.0 && std::abs(o.dot(unit_given)) >= reach_cos * norm) return true;
+    }
+    return false;
+  };
+  // Nothing of ñ_i's facet within ρ (input normals within φ of it) moved by
+  // more than μ λ.
+  const auto facet_stayed = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
+    if (moved[i] > still_move) return false;
+    for (const std::uint32_t* nb = R.begin(i); nb != R.end(i); ++nb) {
+      if (moved[*nb] <= still_move || (P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
+      const Eigen::RowVector3d g = input_normals.row(*nb);
+      const double norm = g.norm();
+      if (norm > 0.0 && std::abs(g.dot(unit_given)) >= uniform_cos * norm) return false;
+    }
+    return true;
+  };
   // The surface stayed around p_i and ñ_i is a facet's (see the header):
   // its nearest neighbors' input normals agree with it.
   const auto uniform = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
@@ -196,13 +225,20 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       const Eigen::RowVector3d unit_output = ni.normalized();
       const double c = std::abs(unit_given.dot(unit_output));
       const bool close = by_exactness && c >= min_cos;
-      const bool still = !close && by_stillness && c >= still_cos && m <= still_move;
+      const bool still =
+          !close && by_stillness && c >= still_cos &&
+          (m <= still_move || (params.still_facet_move && facet_stayed(i, unit_given)));
       if (close || still) {
         // The nearest neighbors read as one plane, or the facet found past
-        // its edges; where the surface stayed, the cone as well.
+        // its edges; where the surface stayed, the reach (or the cone) as
+        // well.
         const bool plain = exact(i, unit_given) && (close || uniform(i, unit_given));
         const bool found = !plain && flat_facet(i, unit_given);
-        if ((plain || found) && (close || cone(i, unit_output, c))) {
+        const auto around = [&] {
+          return params.still_reach > 0.0 ? reach(i, unit_given, std::acos(std::min(1.0, c)))
+                                          : cone(i, unit_output, c);
+        };
+        if ((plain || found) && (close || around())) {
           w = 1.0;
           ++exact_kept;
           still_kept += still;

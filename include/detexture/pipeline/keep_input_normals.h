@@ -102,6 +102,37 @@
 // their flanks (the broad torus's +0.7%); the move bound stays the largest move within ρ: with the
 // own move only (or within 0.5 ρ), the faerie's bumps -18% but the axe's V grooves +15%
 // (+9%), whose walls stay where the bottom moved.
+//
+// The reach and the facet's move (session 25): where the surface stayed,
+// the cone above is replaced by
+//
+//   min_{j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ} ∠(n'_j, ñ_i) <= α ∠(n'_i, ñ_i),
+//
+// with α = still_reach: the output normals around reach towards ñ_i, not
+// merely turn as much in any direction. A rounded facet's fit turns back to
+// the facet's own normal towards its middle; around a groove wall the
+// update filled, the output normals stay the base's, or turn with the
+// base's curvature, which on a curved base (a rod, a torus, a limb) is as
+// large as a shallow wall's tilt and passed the cone. And where the
+// largest move within ρ exceeds μ λ, the surface also counts as stayed
+// where the largest move over ñ_i's facet within ρ does not:
+//
+//   max_{j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ, ∠(ñ_j, ñ_i) <= φ} |p'_j - p_j| <= μ λ,
+//
+// for facets next to relief the update took down (the move at the relief
+// is no sign that the facet beside it moved). Alone this took the walls of
+// V grooves whose bottom moved and whose upper part did not (+1.3% to
+// +3.4% on four unseen models); with the reach they are turned away.
+// Measured on both quality suites and 96 unseen cases, normal error
+// (bench/quality_real_notes.md, session 25): -2.2% on the spot check's 30
+// dense reliefs, -1.8% on its 30 waves and grooves, -1.2% on the broad
+// check's 36, bench/quality -2.0% (the pyramid's V grooves -15%), the real
+// suite -0.4%; no case higher by more than 0.3%; residual texture and Dmax
+// unchanged (normals only). α = 0.4: -1.6 / -1.5 / -1.2%; 0.6: -2.6 /
+// -1.8 / -1.1% with the broad torus's V grooves +1.4%. The reach alone
+// (the ball's move): -0.3 / -1.0 / -0.5%, bench/quality -1.7%, sydney's
+// bumps +1.4%; the facet's move alone (the cone): -1.9 / -0.6 / -0.6%, the
+// V-groove walls above +1.3% to +3.4%.
 #pragma once
 
 #include <cstddef>
@@ -158,6 +189,14 @@ struct KeepInputNormalsParams {
   double facet_jump = 3.0;
   /// t: at most this many such neighbors among the K; >= 0.
   int facet_transitional = 2;
+  /// α: where the surface stayed, ñ_i is taken only if some output normal
+  /// within ρ lies within α ∠(ñ_i, n'_i) of it (the reach, below); in
+  /// [0, 1), 0 reads the cone instead (before session 25).
+  double still_reach = 0.5;
+  /// Where a point within ρ moved by more than μ λ, the surface also counts
+  /// as stayed if none of ñ_i's facet within ρ did (below); false: the move
+  /// is read over all of them only (before session 25).
+  bool still_facet_move = true;
 };
 
 struct KeepInputNormalsResult {
