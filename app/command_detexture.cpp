@@ -616,6 +616,10 @@ int run_detexture(int argc, char** argv) {
                "Output normals: for --keep-input-still-angle the surface counts as stayed only "
                "where no point within --solve-radius moved by more than --keep-input-still-move "
                "λ, not also where none of the point's facet did (before session 25)");
+  app.add_flag("!--keep-input-surface-only", params.keep_input.texture_facets,
+               "Output normals: only points labelled surface (Eq. 2) may take their input "
+               "normal, not also texture-labelled ones whose nearest neighbors' input normals "
+               "agree (facets where several meet; before session 25)");
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")

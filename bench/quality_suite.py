@@ -278,20 +278,27 @@ DETEXTURE_VARIANTS = [
      "exact (noise-free) input normals not kept where the points moved, neither within 4° of "
      "the fitted ones nor up to 20° where the surface stayed (keep_input_normals.h; the "
      "default before session 21)"),
-    ("no-still-input", ["--keep-input-still-angle", "0", "--keep-input-facet-neighbors", "0"],
+    ("no-still-input", ["--keep-input-still-angle", "0", "--keep-input-facet-neighbors", "0",
+                        "--keep-input-surface-only"],
      "exact input normals kept within 4° of the fitted ones only, not up to 20° where nothing "
      "within the solve radius moved by more than λ and they are a facet's "
      "(keep_input_normals.h; the default before session 23)"),
     ("no-facet-input", ["--keep-input-facet-neighbors", "0", "--keep-input-still-reach", "0",
-                        "--keep-input-still-any-move"],
+                        "--keep-input-still-any-move", "--keep-input-surface-only"],
      "exact input normals read from their 8 nearest neighbors as one plane only, not also "
      "from their facet among 24 past its edges (keep_input_normals.h; the default before "
      "session 24)"),
-    ("no-reach-input", ["--keep-input-still-reach", "0", "--keep-input-still-any-move"],
+    ("no-reach-input", ["--keep-input-still-reach", "0", "--keep-input-still-any-move",
+                        "--keep-input-surface-only"],
      "where the surface stayed, exact input normals taken where the fitted normals within the "
      "solve radius turn as much in any direction (the cone), not where they reach towards the "
      "input normal, and only where no point within it moved by more than λ, not also where "
-     "none of the point's facet did (keep_input_normals.h; the default before session 25)"),
+     "none of the point's facet did; and only at surface points (keep_input_normals.h; the "
+     "default before session 25)"),
+    ("surface-only-input", ["--keep-input-surface-only"],
+     "exact input normals taken at surface points only, not also at texture-labelled points "
+     "whose nearest neighbors' input normals agree (keep_input_normals.h; session 25's reach "
+     "and facet move without its third change)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

@@ -332,6 +332,63 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   EXPECT_EQ(strip(0.15), 3 * 17);
 }
 
+// Texture-labelled facets: the grid of the test above, every point
+// labelled texture. Moved by 0.5 λ, the same columns are taken as for
+// surface points (the input normals are exact and agree), all counted as
+// texture; with texture_facets false, none. Where nothing moved, a surface
+// point takes its input normal by the move everywhere, a texture point
+// only by the exactness tests (the same 13 columns). With input normals
+// turned 2° every other column, the 4° test takes the surface points whose
+// normal is +z (even columns, an exact plane) within |x| <= 0.2, but no
+// texture point: their neighbors' input normals disagree.
+TEST(KeepInputNormals, TexturePointsTakeAFacetsNormal) {
+  constexpr int side = 21;
+  const double lambda = 0.01;
+  const auto s = test::bumpy_plane(side, 0.0, 1.0);
+  Positions P = s.P;
+  for (int i = 0; i < P.rows(); ++i) {
+    P(i, 0) = -1.0 + 0.1 * (i % side);
+    P(i, 1) = -1.0 + 0.1 * (i / side);
+    P(i, 2) = 0.0;
+  }
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  Normals given(P.rows(), 3);
+  given.rowwise() = Eigen::RowVector3d(0.0, 0.0, 1.0);
+  Normals output(P.rows(), 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double t = 50.0 * P(i, 0) * P(i, 0) * M_PI / 180.0;
+    output.row(i) = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
+  }
+  const std::vector<std::uint8_t> texture(P.rows(), 1), surface(P.rows(), 0);
+  const auto run = [&](double move, const Normals& in, const std::vector<std::uint8_t>& labels,
+                       const KeepInputNormalsParams& q) {
+    Positions updated = P;
+    updated.col(0).array() += move;
+    return keep_input_normals(P, updated, in, output, labels, R, q);
+  };
+  const auto taken_x = [&](const KeepInputNormalsResult& r, const Normals& in) {
+    return taken_tenths(r, P, in, output, 10 * side, 10 * side + side - 1);
+  };
+  const std::vector<int> thirteen{-6, -5, -4, -3, -2, -1, 0, 1, 2, 3, 4, 5, 6};
+  KeepInputNormalsParams p = params_at(0.25, lambda);
+  ASSERT_TRUE(p.texture_facets);
+  const KeepInputNormalsResult r = run(0.5 * lambda, given, texture, p);
+  EXPECT_EQ(taken_x(r, given), thirteen);
+  EXPECT_EQ(r.texture, r.exact);
+  EXPECT_EQ(r.texture, 13u * side);
+  EXPECT_EQ(taken_x(run(0.5 * lambda, given, surface, p), given), thirteen);
+  KeepInputNormalsParams off = p;
+  off.texture_facets = false;
+  EXPECT_EQ(run(0.5 * lambda, given, texture, off).kept, 0u);
+  EXPECT_EQ(run(0.0, given, surface, p).kept, static_cast<std::size_t>(P.rows()));
+  EXPECT_EQ(taken_x(run(0.0, given, texture, p), given), thirteen);
+  Normals turning = given;
+  for (int i = 0; i < P.rows(); ++i)
+    if (i % 2) turning.row(i) = Eigen::RowVector3d(0.0, std::sin(0.035), std::cos(0.035));
+  EXPECT_EQ(taken_x(run(0.5 * lambda, turning, surface, p), turning), (std::vector<int>{-2, 0, 2}));
+  EXPECT_EQ(run(0.5 * lambda, turning, texture, p).kept, 0u);
+}
+
 // The reach against the cone: a flat wall z = y tan 8° (spacing 0.1, x and
 // y in [-1, 1]) with exact input normals tilted 8° about x, on a surface
 // whose output normals turn about y by 50° x (as on a curved base, along

@@ -357,7 +357,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
             d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
     assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
             d["keep_input_facet_jump"], d["keep_input_facet_transitional"]) == (24, 0.1, 3.0, 2)
-    assert (d["keep_input_still_reach"], d["keep_input_still_facet_move"]) == (0.5, True)
+    assert (d["keep_input_still_reach"], d["keep_input_still_facet_move"],
+            d["keep_input_texture_facets"]) == (0.5, True, True)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
     off = ["--keep-input-high", "0", "--keep-input-exact-angle", "0",
            "--keep-input-still-angle", "0"]
@@ -393,6 +394,28 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         keep_input_still_reach=0.0, keep_input_still_facet_move=False)
     with pytest.raises(ValueError, match="still-reach"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_still_reach=1.0)
+
+
+def test_texture_facets_match_the_command_line(work):
+    """Texture-labelled points take an exact input normal where their
+    neighbors' input normals agree (on a pyramid with dense domes, beside
+    its edges and domes): keep_input_texture_facets = False takes fewer,
+    the same from Python and from the command line, positions unchanged."""
+    pyramid = work / "pyramid_domes.ply"
+    run_cli("synth", "--shape", "pyramid", "--texture", "domes", "--layout", "dense", "--size",
+            "0.04", "--amplitude", "0.01", "-n", "20000", "--ground-truth-points", "100",
+            "--seed", "1", "-o", pyramid)
+    out = work / "pyramid_domes_surface_only.ply"
+    run_cli(pyramid, "-o", out, "-r", "0.06", "--keep-input-surface-only", "-q", "--force")
+    cloud = detexture.read_point_cloud(pyramid)
+    both = detexture.remove_texture(cloud, radius=0.06)
+    surface = detexture.remove_texture(cloud, radius=0.06, keep_input_texture_facets=False)
+    assert np.array_equal(detexture.read_point_cloud(out).normals, surface.normals)
+    assert np.array_equal(both.positions, surface.positions)
+    assert both.report.input_normals_kept > surface.report.input_normals_kept
+    changed = np.any(both.normals != surface.normals, axis=1)
+    assert changed.sum() > 0.02 * len(changed)
+    assert np.all(both.is_texture[changed]) and np.array_equal(both.is_texture, surface.is_texture)
 
 
 def test_counter_moves_match_the_command_line(work):

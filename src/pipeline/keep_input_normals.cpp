@@ -205,11 +205,12 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     }
     return true;
   };
-  std::size_t kept = 0, exact_kept = 0, still_kept = 0, facet_kept = 0;
+  std::size_t kept = 0, exact_kept = 0, still_kept = 0, facet_kept = 0, texture_kept = 0;
 #pragma omp parallel for schedule(dynamic, 256) \
-    reduction(+ : kept, exact_kept, still_kept, facet_kept)
+    reduction(+ : kept, exact_kept, still_kept, facet_kept, texture_kept)
   for (std::size_t i = 0; i < n; ++i) {
-    if (!is_texture.empty() && is_texture[i]) continue;
+    const bool texture = !is_texture.empty() && is_texture[i];
+    if (texture && !params.texture_facets) continue;
     const Eigen::RowVector3d given = input_normals.row(i);
     const Eigen::RowVector3d ni = normals.row(i);
     if (given.squaredNorm() == 0.0 || !given.allFinite() || ni.squaredNorm() == 0.0) continue;
@@ -219,7 +220,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && m <= move_bound; ++nb)
         if ((P.row(*nb) - P.row(i)).squaredNorm() <= radius_sq) m = std::max(m, moved[*nb]);
     }
-    if (by_move) w = std::clamp((high - m) / (high - low), 0.0, 1.0);
+    if (by_move && !texture) w = std::clamp((high - m) / (high - low), 0.0, 1.0);
     if (w < 1.0 && (by_exactness || by_stillness)) {
       const Eigen::RowVector3d unit_given = given.normalized();
       const Eigen::RowVector3d unit_output = ni.normalized();
@@ -229,10 +230,11 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
           !close && by_stillness && c >= still_cos &&
           (m <= still_move || (params.still_facet_move && facet_stayed(i, unit_given)));
       if (close || still) {
-        // The nearest neighbors read as one plane, or the facet found past
-        // its edges; where the surface stayed, the reach (or the cone) as
-        // well.
-        const bool plain = exact(i, unit_given) && (close || uniform(i, unit_given));
+        // The nearest neighbors read as one plane (with agreeing normals
+        // where the surface stayed or the point is texture), or the facet
+        // found past its edges; where the surface stayed, the reach (or the
+        // cone) as well.
+        const bool plain = exact(i, unit_given) && ((close && !texture) || uniform(i, unit_given));
         const bool found = !plain && flat_facet(i, unit_given);
         const auto around = [&] {
           return params.still_reach > 0.0 ? reach(i, unit_given, std::acos(std::min(1.0, c)))
@@ -243,6 +245,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
           ++exact_kept;
           still_kept += still;
           facet_kept += found;
+          texture_kept += texture;
         }
       }
     }
@@ -259,6 +262,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   out.exact = exact_kept;
   out.still = still_kept;
   out.facets = facet_kept;
+  out.texture = texture_kept;
   return out;
 }
 
