@@ -34,6 +34,49 @@ std::vector<int> taken_tenths(const KeepInputNormalsResult& r, const Positions& 
   return tenths;
 }
 
+// A flat grid (spacing 0.1, x and y in [-1, 1], z = 0) with exact input
+// normals +z and output normals tilted about y by 50° x², as a rounded
+// surface's would be; neighborhoods of radius 0.3.
+struct RoundedGrid {
+  static constexpr int side = 21;
+  Positions P;
+  Neighborhoods R;
+  Normals given, output;
+  RoundedGrid() : P(side * side, 3), given(side * side, 3), output(side * side, 3) {
+    for (int i = 0; i < P.rows(); ++i) {
+      P.row(i) = Eigen::RowVector3d(-1.0 + 0.1 * (i % side), -1.0 + 0.1 * (i / side), 0.0);
+      const double t = 50.0 * P(i, 0) * P(i, 0) * M_PI / 180.0;
+      output.row(i) = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
+    }
+    given.rowwise() = Eigen::RowVector3d(0.0, 0.0, 1.0);
+    R = radius_neighborhoods(P, {0.3, 0});
+  }
+};
+
+// The grid above folded by 20° at x = 0.05 into two facets, A (x <= 0,
+// z = 0, normal +z) and B (x >= 0.1), with exact input normals; output
+// normals rounded across the fold, tilted about y by 20° ·
+// clamp((x + 0.15) / 0.4, 0, 1).
+struct FoldedGrid {
+  static constexpr int side = 21;
+  static constexpr double fold = 20.0 * M_PI / 180.0;
+  Positions P;
+  Neighborhoods R;
+  Normals given, output;
+  FoldedGrid() : P(side * side, 3), given(side * side, 3), output(side * side, 3) {
+    for (int i = 0; i < P.rows(); ++i) {
+      const double x = -1.0 + 0.1 * (i % side);
+      P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
+                                    x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
+      given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
+                              : Eigen::RowVector3d(0.0, 0.0, 1.0);
+      const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
+      output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
+    }
+    R = radius_neighborhoods(P, {0.3, 0});
+  }
+};
+
 // A plane whose points do not move, except one that moves by 1 (a bump
 // taken down); the output normals so far are tilted by 10°. Points farther
 // than ρ from the moved one take their input normal, exactly; the moved
@@ -167,23 +210,13 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWithinTheAngle) {
 // the move exceeds μ λ, nor with θ_s = 0, nor when the neighbors' input
 // normals disagree by more than φ, nor above θ_s.
 TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
-  constexpr int side = 21;
+  constexpr int side = RoundedGrid::side;
   const double lambda = 0.01;
-  const auto s = test::bumpy_plane(side, 0.0, 1.0);
-  Positions P = s.P;
-  for (int i = 0; i < P.rows(); ++i) {
-    P(i, 0) = -1.0 + 0.1 * (i % side);
-    P(i, 1) = -1.0 + 0.1 * (i / side);
-    P(i, 2) = 0.0;
-  }
-  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
-  Normals given(P.rows(), 3);
-  given.rowwise() = Eigen::RowVector3d(0.0, 0.0, 1.0);
-  Normals output(P.rows(), 3);
-  for (int i = 0; i < P.rows(); ++i) {
-    const double t = 50.0 * P(i, 0) * P(i, 0) * M_PI / 180.0;
-    output.row(i) = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
-  }
+  const RoundedGrid grid;
+  const Positions& P = grid.P;
+  const Neighborhoods& R = grid.R;
+  const Normals& given = grid.given;
+  const Normals& output = grid.output;
   const auto run = [&](double move, const Normals& in, const KeepInputNormalsParams& q) {
     Positions updated = P;
     updated.col(0).array() += move;
@@ -247,22 +280,14 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
 // them), unless t allows them; not on a facet one column wide (its members
 // lie on one line).
 TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
-  constexpr int side = 21;
+  constexpr int side = FoldedGrid::side;
+  constexpr double fold = FoldedGrid::fold;
   const double lambda = 0.01;
-  const double fold = 20.0 * M_PI / 180.0;
-  const auto s = test::bumpy_plane(side, 0.0, 1.0);
-  Positions P = s.P;
-  Normals given(P.rows(), 3), output(P.rows(), 3);
-  for (int i = 0; i < P.rows(); ++i) {
-    const double x = -1.0 + 0.1 * (i % side);
-    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
-                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
-    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
-                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
-    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
-    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
-  }
-  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  const FoldedGrid grid;
+  const Positions& P = grid.P;
+  const Neighborhoods& R = grid.R;
+  const Normals& given = grid.given;
+  const Normals& output = grid.output;
   const auto run = [&](double move, const Normals& in, const KeepInputNormalsParams& q) {
     Positions updated = P;
     updated.col(1).array() += move;
@@ -342,23 +367,13 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
 // normal is +z (even columns, an exact plane) within |x| <= 0.2, but no
 // texture point: their neighbors' input normals disagree.
 TEST(KeepInputNormals, TexturePointsTakeAFacetsNormal) {
-  constexpr int side = 21;
+  constexpr int side = RoundedGrid::side;
   const double lambda = 0.01;
-  const auto s = test::bumpy_plane(side, 0.0, 1.0);
-  Positions P = s.P;
-  for (int i = 0; i < P.rows(); ++i) {
-    P(i, 0) = -1.0 + 0.1 * (i % side);
-    P(i, 1) = -1.0 + 0.1 * (i / side);
-    P(i, 2) = 0.0;
-  }
-  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
-  Normals given(P.rows(), 3);
-  given.rowwise() = Eigen::RowVector3d(0.0, 0.0, 1.0);
-  Normals output(P.rows(), 3);
-  for (int i = 0; i < P.rows(); ++i) {
-    const double t = 50.0 * P(i, 0) * P(i, 0) * M_PI / 180.0;
-    output.row(i) = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
-  }
+  const RoundedGrid grid;
+  const Positions& P = grid.P;
+  const Neighborhoods& R = grid.R;
+  const Normals& given = grid.given;
+  const Normals& output = grid.output;
   const std::vector<std::uint8_t> texture(P.rows(), 1), surface(P.rows(), 0);
   const auto run = [&](double move, const Normals& in, const std::vector<std::uint8_t>& labels,
                        const KeepInputNormalsParams& q) {
@@ -439,22 +454,13 @@ TEST(KeepInputNormals, TheReachTurnsAwayAWallOnACurvedBase) {
 // 2.5° and less), whatever moved. Without the facet's move, x = 0 is not
 // taken.
 TEST(KeepInputNormals, AFacetBesideReliefThatMovedStayed) {
-  constexpr int side = 21;
+  constexpr int side = FoldedGrid::side;
   const double lambda = 0.01;
-  const double fold = 20.0 * M_PI / 180.0;
-  const auto s = test::bumpy_plane(side, 0.0, 1.0);
-  Positions P = s.P;
-  Normals given(P.rows(), 3), output(P.rows(), 3);
-  for (int i = 0; i < P.rows(); ++i) {
-    const double x = -1.0 + 0.1 * (i % side);
-    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
-                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
-    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
-                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
-    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
-    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
-  }
-  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  const FoldedGrid grid;
+  const Positions& P = grid.P;
+  const Neighborhoods& R = grid.R;
+  const Normals& given = grid.given;
+  const Normals& output = grid.output;
   Positions updated = P;
   for (int i = 0; i < P.rows(); ++i) updated(i, 1) += (P(i, 0) > 0.15 ? 1.5 : 0.5) * lambda;
   KeepInputNormalsParams p = params_at(0.25, lambda);
