@@ -20,7 +20,10 @@ class SplitMix64 {
       : state_(seed * 0x9E3779B97F4A7C15ull ^ (stream + 0x632BE59BD9B4E019ull)) {
     next();
   }
-  std::uint64_t next() { return splitmix64_mix(state_ += 0x9E3779B97F4A7C15ull); }
+  std::uint64_t next() { return splitmix64_mix(state_ += kGamma); }
+  /// Advances by `draws` calls of next() without computing them: the state
+  /// is a counter, so this is one multiplication.
+  void skip(std::uint64_t draws) { state_ += draws * kGamma; }
   /// Uniform integer in [0, n), n > 0 (Lemire's multiply-shift; the bias is
   /// below 2^-32 for the neighborhood sizes used here).
   std::uint32_t below(std::uint32_t n) {
@@ -28,6 +31,7 @@ class SplitMix64 {
   }
 
  private:
+  static constexpr std::uint64_t kGamma = 0x9E3779B97F4A7C15ull;
   std::uint64_t state_;
 };
 

@@ -135,16 +135,19 @@ struct SurfaceTest {
   }
   // fits(..., min_cos) && agrees(..., vote_cos), with the quadric's normal
   // computed once (Eq. 2's votes in the gather pass).
+  // The tests are combined without branches: whether a neighbor fits is a
+  // coin toss on dense relief, and mispredictions cost more than the
+  // normal's square root.
   bool fits_and_agrees(float px, float py, float pz, float qnx, float qny, float qnz, float lambda,
                        float min_cos, float vote_cos) const {
     const float h = height(px, py, pz);
-    if (!curved) return std::abs(h) < lambda && plane.agrees(qnx, qny, qnz, vote_cos);
+    if (!curved) return (std::abs(h) < lambda) & plane.agrees(qnx, qny, qnz, vote_cos);
     const float u = u_of(px, py, pz), v = v_of(px, py, pz);
-    if (!bent_fits(h, u, v, lambda)) return false;
-    if (min_cos <= -1.0f && vote_cos <= -1.0f) return true;
+    const bool fits = bent_fits(h, u, v, lambda);
+    if (min_cos <= -1.0f && vote_cos <= -1.0f) return fits;
     float dot, length;
     bent_normal_dot(u, v, qnx, qny, qnz, &dot, &length);
-    return (min_cos <= -1.0f || within(dot, length, min_cos)) &&
+    return fits & (min_cos <= -1.0f || within(dot, length, min_cos)) &
            (vote_cos <= -1.0f || within(dot, length, vote_cos));
   }
 };
@@ -243,14 +246,31 @@ struct PlaneFit {
   int tries = 0;
 };
 
-// One branch-free pass of sums over the inliers (in double; coordinates are
-// within r of the centre, so the moments lose nothing that matters).
+// The t in [0, k) with fits(t), listed without a branch per point (whether a
+// point fits is a coin toss on dense relief, and the mispredicted branches
+// cost more than the sums they skipped). Returns how many.
+template <class Fits>
+std::size_t list_inliers(std::size_t k, Fits fits, std::vector<std::uint32_t>& held) {
+  held.resize(k);
+  std::uint32_t* out = held.data();
+  std::size_t m = 0;
+  for (std::size_t t = 0; t < k; ++t) {
+    out[m] = static_cast<std::uint32_t>(t);
+    m += fits(t);
+  }
+  return m;
+}
+
+// Sums over the inliers (in double; coordinates are within r of the centre,
+// so the moments lose nothing that matters), in the order of S.
 bool least_squares_plane(const Points& S, const Plane& plane, float lambda, std::size_t count,
-                         Plane* refined) {
+                         std::vector<std::uint32_t>& held, Plane* refined) {
+  const std::size_t m = list_inliers(
+      S.size(), [&](std::size_t t) { return plane.fits(S.x[t], S.y[t], S.z[t], lambda); }, held);
   double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
-  for (std::size_t t = 0; t < S.size(); ++t) {
-    const double w = plane.fits(S.x[t], S.y[t], S.z[t], lambda) ? 1.0 : 0.0;
-    const double x = w * S.x[t], y = w * S.y[t], z = w * S.z[t];
+  for (std::size_t s = 0; s < m; ++s) {
+    const std::uint32_t t = held[s];
+    const double x = S.x[t], y = S.y[t], z = S.z[t];
     sx += x;
     sy += y;
     sz += z;
@@ -276,7 +296,8 @@ bool least_squares_plane(const Points& S, const Plane& plane, float lambda, std:
 // RANSAC gives up (the further planes of curved texture would otherwise run
 // to the cap).
 PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams& params,
-                   float lambda, SplitMix64& rng, double min_count) {
+                   float lambda, SplitMix64& rng, double min_count,
+                   std::vector<std::uint32_t>& held) {
   const std::uint32_t k = static_cast<std::uint32_t>(S.size());
   // A triple whose cross product is this small is collinear for our purposes.
   const double min_cross = 1e-12 * extent_sq;
@@ -285,31 +306,52 @@ PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams&
   double needed = std::min<double>(
       params.max_iterations,
       tries_needed(std::min(1.0, min_count / static_cast<double>(k)), params.confidence));
+  // The hypotheses are drawn and solved in batches, ahead of their counts:
+  // each count ends in a mispredicted exit, which used to leave every
+  // hypothesis's square root and divisions waiting in turn (15% of the bull's
+  // detection). The generator is then moved on by the draws of the tries
+  // actually made, so the draws, the planes and the result are the same.
+  // Batches grow 1, 1, 2, 4, 8 (a flat neighborhood needs one try) and never
+  // pass the tries still needed.
+  constexpr int kBatch = 8;
+  std::array<Plane, kBatch> planes;
+  std::array<bool, kBatch> solid;
   while (fit.tries < params.max_iterations && fit.tries < needed) {
-    ++fit.tries;
-    const std::uint32_t a = rng.below(k);
-    std::uint32_t b = rng.below(k - 1);
-    b += (b >= a);
-    std::uint32_t c = rng.below(k - 2);
-    const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
-    c += (c >= lo);
-    c += (c >= hi);
-    const Eigen::Vector3d qa = point(a);
-    const Eigen::Vector3d cross = (point(b) - qa).cross(point(c) - qa);
-    const double norm = cross.norm();
-    if (norm <= min_cross) continue;
-    Plane plane;
-    plane.set(cross / norm, (cross / norm).dot(qa));
-    const std::size_t count = count_inliers(S, plane, lambda, fit.count);
-    if (count > fit.count) {
-      fit.count = count;
-      fit.plane = plane;
-      needed = std::min(needed, tries_needed(static_cast<double>(count) / k, params.confidence));
+    const int batch = static_cast<int>(std::min<double>(
+        {static_cast<double>(std::clamp(fit.tries, 1, kBatch)),
+         static_cast<double>(params.max_iterations - fit.tries), std::ceil(needed - fit.tries)}));
+    SplitMix64 ahead = rng;
+    for (int h = 0; h < batch; ++h) {
+      const std::uint32_t a = ahead.below(k);
+      std::uint32_t b = ahead.below(k - 1);
+      b += (b >= a);
+      std::uint32_t c = ahead.below(k - 2);
+      const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
+      c += (c >= lo);
+      c += (c >= hi);
+      const Eigen::Vector3d qa = point(a);
+      const Eigen::Vector3d cross = (point(b) - qa).cross(point(c) - qa);
+      const double norm = cross.norm();
+      solid[h] = norm > min_cross;
+      if (solid[h]) planes[h].set(cross / norm, (cross / norm).dot(qa));
     }
+    int used = 0;
+    for (; used < batch && fit.tries < params.max_iterations && fit.tries < needed; ++used) {
+      ++fit.tries;
+      if (!solid[used]) continue;
+      const Plane& plane = planes[used];
+      const std::size_t count = count_inliers(S, plane, lambda, fit.count);
+      if (count > fit.count) {
+        fit.count = count;
+        fit.plane = plane;
+        needed = std::min(needed, tries_needed(static_cast<double>(count) / k, params.confidence));
+      }
+    }
+    rng.skip(3 * static_cast<std::uint64_t>(used));
   }
   if (params.refine && fit.count >= 3) {
     Plane refined;
-    if (least_squares_plane(S, fit.plane, lambda, fit.count, &refined)) {
+    if (least_squares_plane(S, fit.plane, lambda, fit.count, held, &refined)) {
       const std::size_t count = count_inliers(S, refined, lambda, fit.count - 1);
       if (count >= fit.count) {
         fit.plane = refined;
@@ -328,10 +370,11 @@ PlaneFit fit_plane(const Points& S, double extent_sq, const DetectTextureParams&
 // is taken in ring by ring. Curvature is capped at 1/r_min (κ = 2|a| on the
 // axes): a quadric that bends more tightly than that fits texture, not shape.
 // Returns the inlier count of the result (the plane's when nothing helped).
-// flags: a buffer for the inlier flags of each round.
+// flags, held: buffers for the inliers of each round, flagged and listed.
 std::size_t refine_quadric(const Points& S, const Plane& plane, std::size_t plane_count,
                            float lambda, float min_cos, double max_curvature, int rounds,
-                           std::vector<std::uint8_t>& flags, SurfaceTest* out) {
+                           std::vector<std::uint8_t>& flags, std::vector<std::uint32_t>& held,
+                           SurfaceTest* out) {
   SurfaceTest best;
   best.plane = plane.test;
   std::size_t best_count = plane_count;
@@ -352,30 +395,35 @@ std::size_t refine_quadric(const Points& S, const Plane& plane, std::size_t plan
   fit_flags(S, best, lambda, -2.0f, flags);
   for (int round = 0; round < rounds; ++round) {
     // Normal equations of h - d = [u^2 uv v^2 u v 1] . x over the inliers,
-    // the lower triangle of A summed term by term (as Eigen's rankUpdate
+    // the upper triangle of A summed term by term (as Eigen's rankUpdate
     // does, to the bit, but without its general-size kernel: 4.6% of a run
-    // on the real suite's bull).
+    // on the real suite's bull), over the inliers listed first (a branch per
+    // point was mispredicted on dense relief), each row's products
+    // contiguous so that they are summed in pairs of lanes.
     double A[6][6] = {};
-    Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-    std::size_t used = 0;
+    double b[6] = {};
+    const std::size_t used = list_inliers(
+        k, [&](std::size_t t) { return flags[t] != 0; }, held);
     double scale_sq = 0.0;
-    for (std::size_t t = 0; t < k; ++t) {
-      if (!flags[t]) continue;
+    for (std::size_t i = 0; i < used; ++i) {
+      const std::uint32_t t = held[i];
       const double u = trial.e1x * S.x[t] + trial.e1y * S.y[t] + trial.e1z * S.z[t];
       const double v = trial.e2x * S.x[t] + trial.e2y * S.y[t] + trial.e2z * S.z[t];
       const double h =
           plane.test.nx * S.x[t] + plane.test.ny * S.y[t] + plane.test.nz * S.z[t] - plane.test.d;
       scale_sq = std::max(scale_sq, u * u + v * v);
       const double m[6] = {u * u, u * v, v * v, u, v, 1.0};
-      for (int c = 0; c < 6; ++c)
-        for (int r = c; r < 6; ++r) A[r][c] += m[c] * m[r];
-      for (int r = 0; r < 6; ++r) rhs(r) += h * m[r];
-      ++used;
+      for (int r = 0; r < 6; ++r)
+        for (int c = r; c < 6; ++c) A[r][c] += m[r] * m[c];
+      for (int r = 0; r < 6; ++r) b[r] += h * m[r];
     }
     if (used < 12 || !(scale_sq > 0.0)) break;
     Eigen::Matrix<double, 6, 6> full;
-    for (int c = 0; c < 6; ++c)
-      for (int r = c; r < 6; ++r) full(r, c) = full(c, r) = A[r][c];
+    Eigen::Matrix<double, 6, 1> rhs;
+    for (int r = 0; r < 6; ++r) {
+      rhs(r) = b[r];
+      for (int c = r; c < 6; ++c) full(r, c) = full(c, r) = A[r][c];
+    }
     // Scale the unknowns so the system is well conditioned at any r.
     const double s = 1.0 / std::sqrt(scale_sq);
     Eigen::Matrix<double, 6, 1> D;
@@ -523,6 +571,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
     std::vector<std::uint8_t> inlier;       // per neighbor: fits one of the planes
     std::vector<std::uint8_t> bent_inlier;  // the same for the quadric model
     std::vector<std::uint8_t> round_flags;  // refine_quadric's inliers per round
+    std::vector<std::uint32_t> held;        // the inliers of a fit, listed
     auto* further =
         gather ? &further_by_thread[static_cast<std::size_t>(omp_get_thread_num())] : nullptr;
 #pragma omp for schedule(dynamic, 256)
@@ -553,7 +602,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         extent_sq = std::max<double>(extent_sq, qx * qx + qy * qy + qz * qz);
       }
       SplitMix64 rng(params.seed, i);
-      const PlaneFit first = fit_plane(all, extent_sq, params, lambda, rng, 3.0);
+      const PlaneFit first = fit_plane(all, extent_sq, params, lambda, rng, 3.0, held);
       total_tries += first.tries;
       if (first.count == 0) {
         ++no_plane;
@@ -568,14 +617,18 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
       auto explain = [&](const SurfaceTest& surface, std::vector<std::uint8_t>& fit,
                          std::array<PlaneTest, 2>& found) {
         std::size_t total = fit_flags(all, surface, lambda, min_cos, fit);
-        rest.resize(k - total, false);
+        // The points left, copied without a branch per point (written
+        // always, kept by advancing), as below: one slot past the end is
+        // written and dropped.
+        rest.resize(k - total + 1, false);
         for (std::uint32_t t = 0, r = 0; t < k; ++t) {
-          if (fit[t]) continue;
           rest.x[r] = all.x[t];
           rest.y[r] = all.y[t];
           rest.z[r] = all.z[t];
-          rest.id[r++] = t;
+          rest.id[r] = t;
+          r += !fit[t];
         }
+        rest.resize(k - total, false);
         // Further planes at an angle to every earlier one, each with a real
         // share of the neighborhood, are the other faces of a crease or
         // corner: their points are surface.
@@ -583,7 +636,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
         Eigen::Vector3d normals_found[3] = {first.plane.normal};
         for (int plane = 1; plane < params.planes; ++plane) {
           if (rest.size() < std::max(3.0, min_share)) break;
-          const PlaneFit next = fit_plane(rest, extent_sq, params, lambda, rng, min_share);
+          const PlaneFit next = fit_plane(rest, extent_sq, params, lambda, rng, min_share, held);
           total_tries += next.tries;
           bool at_angle = next.count >= min_share;
           for (int e = 0; e < plane && at_angle; ++e)
@@ -596,13 +649,11 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
             const bool fits = next.plane.fits(rest.x[s], rest.y[s], rest.z[s], lambda);
             fit[rest.id[s]] = fits;
             total += fits;
-            if (!fits) {
-              rest.x[kept] = rest.x[s];
-              rest.y[kept] = rest.y[s];
-              rest.z[kept] = rest.z[s];
-              rest.id[kept] = rest.id[s];
-              ++kept;
-            }
+            rest.x[kept] = rest.x[s];
+            rest.y[kept] = rest.y[s];
+            rest.z[kept] = rest.z[s];
+            rest.id[kept] = rest.id[s];
+            kept += !fits;
           }
           rest.x.resize(kept);
           rest.y.resize(kept);
@@ -618,7 +669,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
       if (curved && explained < max_plane_share * k) {
         SurfaceTest bent;
         if (refine_quadric(all, first.plane, first.count, lambda, min_cos, max_curvature,
-                           params.surface_rounds, round_flags,
+                           params.surface_rounds, round_flags, held,
                            &bent) > first.count + min_gain * k) {
           std::array<PlaneTest, 2> bent_found;
           const auto [bent_explained, bent_count] = explain(bent, bent_inlier, bent_found);
@@ -741,7 +792,7 @@ TextureDetection detect_texture(const Positions& P, const Normals& point_normals
                                                          min_cos, vote_cos)
                                  : first.fits(qx, qy, qz, lambda);
         for (std::uint32_t e = further_start[i]; e < further_start[i + 1] && !fits; ++e)
-          fits = further[e].second.fits(qx, qy, qz, lambda) &&
+          fits = further[e].second.fits(qx, qy, qz, lambda) &
                  further[e].second.agrees(nj[0], nj[1], nj[2], vote_cos);
         t_j += fits;
       }
