@@ -225,6 +225,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.texture_height, r.max_move, r.moves_limited);
   add("  \"relief_lean\": %.6g,\n  \"counter_moves_limited\": %zu,\n", r.relief_lean,
       r.counter_moves_limited);
+  add("  \"tip_moves_limited\": %zu,\n", r.tip_moves_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
@@ -409,6 +410,15 @@ int run_detexture(int argc, char** argv) {
   app.add_flag("!--counter-move-hard", params.counter_moves.soft,
                "Cut moves against the relief at the limit instead of saturating them "
                "smoothly (limit × tanh(move / limit))");
+  app.add_option("--tip-depth", params.tips.depth,
+                 "A point is a tip of the relief (a top, or a groove's bottom) when a neighbor "
+                 "within the solve radius lies this many λ below it along its normal and none "
+                 "more than --tip-slack λ above; a tip ends at most --tip-slack λ past its "
+                 "farthest neighbor. 0 turns the limit off")
+      ->capture_default_str();
+  app.add_option("--tip-slack", params.tips.slack,
+                 "How far past its farthest neighbor a tip may lie, and end, in units of λ")
+      ->capture_default_str();
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
                "with the point (across a thin part)");
@@ -965,6 +975,9 @@ int run_detexture(int argc, char** argv) {
       if (r.counter_moves_limited > 0)
         std::fprintf(stderr, "  moves against the relief limited (lean %.2f): %zu points\n",
                      r.relief_lean, r.counter_moves_limited);
+      if (r.tip_moves_limited > 0)
+        std::fprintf(stderr, "  tips of the relief held at their neighbors: %zu points\n",
+                     r.tip_moves_limited);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());

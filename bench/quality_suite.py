@@ -246,7 +246,7 @@ DETEXTURE_VARIANTS = [
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
                      "--thin-part-radius", "1", "--guidance", "patch-shift",
                      "--surface-split-angle", "180", "--output-normals", "filtered",
-                     "--counter-move-limit", "0"],
+                     "--counter-move-limit", "0", "--tip-depth", "0"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("full-anchors", ["--anchor-height", "0", "--anchor-angle", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
@@ -306,6 +306,10 @@ DETEXTURE_VARIANTS = [
      "no limit on moves against the relief: points at concave junctions carried outward past "
      "raised relief by the rounded normals (limit_counter_moves.h; the default before session "
      "19)"),
+    ("no-tip-limit", ["--tip-depth", "0"],
+     "the tops and bottoms of the relief free to end past their neighbors: groove floors "
+     "carried deeper and crests further out by the rounded normals (limit_tip_moves.h; the "
+     "default before session 26)"),
     ("counter-hard", ["--counter-move-hard"],
      "moves against the relief cut at the limit instead of saturated smoothly "
      "(limit_counter_moves.h; the default in session 19)"),

@@ -73,12 +73,13 @@ def parse(path, docs, members):
 
 
 FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface_normals",
-                     "keep_input.radius", "keep_input.lambda", "counter_moves.height"}
+                     "keep_input.radius", "keep_input.lambda", "counter_moves.height",
+                     "tips.radius", "tips.lambda"}
 # Parameter structs whose members become Python keywords: remove_texture's,
 # and those of the stages bound on their own.
 TABLES = ["RemoveTextureParams", "DetectTextureParams", "FilterNormalsGaussianParams",
           "FilterNormalsRollingParams", "UpdatePositionsParams", "FitNormalsToPositionsParams",
-          "KeepInputNormalsParams", "LimitCounterMovesParams"]
+          "KeepInputNormalsParams", "LimitCounterMovesParams", "LimitTipMovesParams"]
 
 
 def param_fields(members, struct, path=(), top=None):

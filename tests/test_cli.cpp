@@ -350,7 +350,9 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--counter-move-lean 1.5",
                            "--counter-move-engraved-share 1.5",
                            "--counter-move-engraved-share -1",
-                           "--counter-move-engraved-lean 0"}) {
+                           "--counter-move-engraved-lean 0",
+                           "--tip-depth -1",
+                           "--tip-slack -0.5"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;
     EXPECT_FALSE(fs::exists(path("out.ply"))) << args;
   }

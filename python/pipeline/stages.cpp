@@ -1,8 +1,9 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), limit_counter_moves (after the update),
-// fit_normals_to_positions and keep_input_normals (output normals). Keywords
+// update_positions (Eqs. 9-10), limit_counter_moves and limit_tip_moves
+// (after the update), fit_normals_to_positions and keep_input_normals
+// (output normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
 // arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
@@ -17,6 +18,7 @@
 #include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/limit_counter_moves.h"
+#include "detexture/pipeline/limit_tip_moves.h"
 #include "detexture/pipeline/update_positions.h"
 #include "module.h"
 #include "params.h"
@@ -324,6 +326,31 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("is_texture"),
       counter_doc.c_str());
+
+  static const std::string tip_doc = stage_doc<LimitTipMovesParams>(
+      m, "limit_tip_moves", "points, updated, normals, neighborhoods", "positions, limited",
+      "LimitTipMovesParams");
+  m.def(
+      "limit_tip_moves",
+      [](const py::object& points, const py::object& updated, const py::object& normals,
+         const Neighborhoods& R, const py::kwargs& kwargs) {
+        const auto params = params_from_kwargs<LimitTipMovesParams>(kwargs, "limit_tip_moves");
+        validate(params);
+        const auto [P, N] = points_and_normals(points, normals, R);
+        const Positions Q = to_matrix3(updated, "updated");
+        check_rows(P, Q, "updated");
+        LimitTipMovesResult c;
+        {
+          py::gil_scoped_release release;
+          c = limit_tip_moves(P, Q, N, R, params);
+        }
+        py::dict d;
+        d["positions"] = to_array(std::move(c.positions));
+        d["limited"] = c.limited;
+        return d;
+      },
+      py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("neighborhoods"),
+      tip_doc.c_str());
 }
 
 }  // namespace detexture::python

@@ -1,5 +1,6 @@
 """detexture.remove_texture against the command line, its inputs, errors,
 GIL release and cancellation."""
+import json
 import threading
 import time
 
@@ -458,3 +459,30 @@ def test_counter_moves_match_the_command_line(work):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_min_lean=0.0)
     with pytest.raises(ValueError, match="counter-move-engraved-share"):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_engraved_share=1.5)
+
+
+def test_tip_moves_match_the_command_line(work):
+    """The tops and bottoms of the relief do not end past their neighbors
+    (limit_tip_moves.h): on a sphere with U grooves some groove floors are
+    held; tips_depth = 0 turns it off; the same from Python and from the
+    command line, whose --stats reports the count."""
+    d = detexture.default_parameters()
+    assert (d["tips_depth"], d["tips_slack"]) == (2.0, 1.0)
+    assert "tips_radius" not in d and "tips_lambda" not in d
+    sphere = work / "sphere_u_grooves.ply"
+    run_cli("synth", "--shape", "sphere", "--texture", "u-grooves", "-n", "20000",
+            "--ground-truth-points", "100", "--seed", "1", "-o", sphere)
+    cloud = detexture.read_point_cloud(sphere)
+    held = detexture.remove_texture(cloud)
+    free = detexture.remove_texture(cloud, tips_depth=0.0)
+    assert held.report.tip_moves_limited > 10 and free.report.tip_moves_limited == 0
+    assert not np.array_equal(held.positions, free.positions)
+    out, stats = work / "sphere_u_grooves_held.ply", work / "sphere_u_grooves_held.json"
+    run_cli(sphere, "-o", out, "--stats", stats, "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, held.positions)
+    assert json.loads(stats.read_text())["tip_moves_limited"] == held.report.tip_moves_limited
+    out = work / "sphere_u_grooves_free.ply"
+    run_cli(sphere, "-o", out, "--tip-depth", "0", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, free.positions)
+    with pytest.raises(ValueError, match="tip-depth"):
+        detexture.remove_texture(cloud, tips_depth=-1.0)

@@ -205,3 +205,30 @@ def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
     assert np.array_equal(off["positions"], moved) and off["limited"] == 0
     with pytest.raises(ValueError, match="counter-move-limit"):
         detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=-1.0)
+
+
+def test_limit_tip_moves_holds_the_tops_and_bottoms_of_relief():
+    # A cone on a 5 x 5 grid of spacing 1, z = -0.5 × the distance from the
+    # centre, normals +z; λ = 0.1, ρ = 1.5: the top moved out by 0.3 ends at
+    # the slack 0.1 above itself (its highest neighbor), sideways moves
+    # stay; moved in, it is free. Upside down, the bottom is held the other way.
+    g = np.arange(5.0) - 2.0
+    x, y = (a.ravel() for a in np.meshgrid(g, g, indexing="xy"))
+    N = np.tile([0.0, 0.0, 1.0], (25, 1))
+    for sign in (1.0, -1.0):
+        P = np.column_stack([x, y, -sign * 0.5 * np.hypot(x, y)])
+        R = detexture.radius_neighborhoods(P, 1.5)
+        moved = P.copy()
+        moved[12] += [0.05, 0.0, sign * 0.3]
+        c = detexture.limit_tip_moves(P, moved, N, R, radius=1.5, lambda_=0.1)
+        expected = moved.copy()
+        expected[12, 2] = sign * 0.1
+        assert c["limited"] == 1 and np.allclose(c["positions"], expected, rtol=0, atol=1e-15)
+        back = P.copy()
+        back[12, 2] -= sign * 0.3
+        free = detexture.limit_tip_moves(P, back, N, R, radius=1.5, lambda_=0.1)
+        assert free["limited"] == 0 and np.array_equal(free["positions"], back)
+    off = detexture.limit_tip_moves(P, moved, N, R, radius=1.5, lambda_=0.1, depth=0.0)
+    assert off["limited"] == 0 and np.array_equal(off["positions"], moved)
+    with pytest.raises(ValueError, match="tip-slack"):
+        detexture.limit_tip_moves(P, moved, N, R, radius=1.5, lambda_=0.1, slack=-1.0)

@@ -153,6 +153,10 @@ void validate(const RemoveTextureParams& p) {
   keep.lambda = 1.0;
   validate(keep);
   validate(p.counter_moves);
+  LimitTipMovesParams tips = p.tips;
+  tips.radius = 1.0;
+  tips.lambda = 1.0;
+  validate(tips);
 }
 
 RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
@@ -461,6 +465,9 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   up.solve_radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
   LimitCounterMovesParams cp = params.counter_moves;
   cp.height = rep.texture_height;
+  LimitTipMovesParams tp = params.tips;
+  tp.radius = up.solve_radius;
+  tp.lambda = rep.lambda;
   const auto keep_update = [&](UpdatePositionsResult&& u) {
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
@@ -470,7 +477,9 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
         limit_counter_moves(P, u.positions, filtered, result.is_texture, cp);
     rep.relief_lean = c.lean;
     rep.counter_moves_limited = c.limited;
-    result.positions = std::move(c.positions);
+    LimitTipMovesResult t = limit_tip_moves(P, c.positions, result.input_normals, R, tp);
+    rep.tip_moves_limited = t.limited;
+    result.positions = std::move(t.positions);
   };
   {
     StageClock clock(observer, rep, "update positions");
