@@ -130,7 +130,7 @@ struct RemoveTextureParams {
   /// input normal, one at least depth × λ below) ends at most slack × λ above
   /// its highest neighbor; the bottom of a groove, likewise below. Measured
   /// (bench/quality_real_notes.md, session 26): the engine block's Dmax 1.41
-  /// -> 1.18 × the input's; on 126 cases of both suites and the spot checks,
+  /// -> 1.18 × the input's; on 114 cases of both suites and the spot checks,
   /// Dmax over 1.25 × in 36 instead of 40, residual texture -0.1% to -0.2%
   /// per group, no case worse. radius and lambda are filled here; depth 0
   /// turns it off (before session 26).
