@@ -399,6 +399,13 @@ int run_detexture(int argc, char** argv) {
                  "The relief counts as raised when the lean of the texture points' large "
                  "moves, (inward - outward) / all, reaches this, in (0, 1]")
       ->capture_default_str();
+  app.add_option("--counter-move-released-lean", params.counter_moves.released_min_lean,
+                 "... in the second update over waves, whose released anchors move both ways, "
+                 "from this lean, in (0, 1]")
+      ->capture_default_str();
+  app.add_flag("!--counter-move-limit-released", params.counter_moves.free_released,
+               "Also limit the outward moves of the points whose anchors the second update "
+               "over waves released (before session 27)");
   app.add_option("--counter-move-engraved-lean", params.counter_moves.engraved_min_lean,
                  "... and as engraved when the lean is at most minus this, in (0, 1]")
       ->capture_default_str();

@@ -306,6 +306,11 @@ DETEXTURE_VARIANTS = [
      "no limit on moves against the relief: points at concave junctions carried outward past "
      "raised relief by the rounded normals (limit_counter_moves.h; the default before session "
      "19)"),
+    ("counter-session26", ["--counter-move-limit", "0.25", "--counter-move-limit-released",
+                           "--counter-move-released-lean", "0.35"],
+     "moves against raised relief saturated at a quarter of the texture height instead of an "
+     "eighth, and in the second update over waves the released points limited too, from the "
+     "first pass's lean (limit_counter_moves.h; the default before session 27)"),
     ("no-tip-limit", ["--tip-depth", "0"],
      "the tops and bottoms of the relief free to end past their neighbors: groove floors "
      "carried deeper and crests further out by the rounded normals (limit_tip_moves.h; the "

@@ -351,6 +351,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--counter-move-engraved-share 1.5",
                            "--counter-move-engraved-share -1",
                            "--counter-move-engraved-lean 0",
+                           "--counter-move-released-lean 0",
+                           "--counter-move-released-lean 1.5",
                            "--tip-depth -1",
                            "--tip-slack -0.5"}) {
     EXPECT_EQ(run(path("in.ply") + " -o " + path("out.ply") + " " + args), 2) << args;

@@ -5,15 +5,18 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "detexture/eval/synthesize_shape.h"
 #include "detexture/pipeline/remove_texture.h"
 #include "test_support.h"
 
 namespace detexture {
 namespace {
 
+// The tests below work their numbers out at l = 0.25 (session 19's limit).
 LimitCounterMovesParams with_height(double height) {
   LimitCounterMovesParams p;
   p.height = height;
+  p.limit = 0.25;
   return p;
 }
 
@@ -181,6 +184,55 @@ TEST(LimitCounterMoves, NoClearSideChangesNothing) {
           .positions == raised.updated);
 }
 
+// The waves pass (session 27): points whose anchors it released keep their
+// outward moves under raised relief; the others are limited as before.
+// Point 10 (up by 0.8) is released, point 11 (up by 0.1) is not.
+TEST(LimitCounterMoves, ReleasedPointsKeepTheirOutwardMoves) {
+  const Moves m = moves(-1.0);
+  std::vector<std::uint8_t> released(20, 0);
+  released[10] = 1;
+  LimitCounterMovesParams p = with_height(1.0);
+  const LimitCounterMovesResult r =
+      limit_counter_moves(m.P, m.updated, m.N, m.texture, p, released);
+  EXPECT_EQ(r.side, 1);
+  EXPECT_EQ(r.limited, 0u);
+  EXPECT_EQ(r.positions(10, 2), 0.8);
+  EXPECT_NEAR(r.positions(11, 2), 0.25 * std::tanh(0.4), 1e-15);
+  // Off: released points are limited like the others (before session 27).
+  p.free_released = false;
+  const LimitCounterMovesResult all =
+      limit_counter_moves(m.P, m.updated, m.N, m.texture, p, released);
+  EXPECT_EQ(all.limited, 1u);
+  EXPECT_NEAR(all.positions(10, 2), 0.25 * std::tanh(3.2), 1e-15);
+  // Engraved relief: a released point's inward move is limited as before.
+  const Moves up = moves(1.0);
+  released.assign(20, 0);
+  released[12] = 1;  // down by 0.8
+  p = with_height(1.0);
+  p.soft = false;
+  const LimitCounterMovesResult engraved =
+      limit_counter_moves(up.P, up.updated, up.N, up.texture, p, released);
+  EXPECT_EQ(engraved.side, -1);
+  EXPECT_EQ(engraved.positions(12, 2), -0.25);
+}
+
+// With released points the relief counts as raised from released_min_lean
+// (0.5), not min_lean (0.35): 7 texture points down and 3 up lean 0.4.
+TEST(LimitCounterMoves, TheWavesPassAsksForAClearerLean) {
+  Moves m = moves(-1.0);
+  for (int i = 0; i < 3; ++i) m.updated(i, 2) = 1.0;
+  const std::vector<std::uint8_t> none_released(20, 0);
+  LimitCounterMovesParams p = with_height(1.0);
+  EXPECT_EQ(limit_counter_moves(m.P, m.updated, m.N, m.texture, p).side, 1);
+  const LimitCounterMovesResult r =
+      limit_counter_moves(m.P, m.updated, m.N, m.texture, p, none_released);
+  EXPECT_DOUBLE_EQ(r.lean, 0.4);
+  EXPECT_EQ(r.side, 0);
+  EXPECT_TRUE(r.positions == m.updated);
+  p.released_min_lean = 0.4;
+  EXPECT_EQ(limit_counter_moves(m.P, m.updated, m.N, m.texture, p, none_released).side, 1);
+}
+
 TEST(LimitCounterMoves, BadInputIsRefused) {
   const Moves m = moves(-1.0);
   LimitCounterMovesParams p = with_height(1.0);
@@ -206,6 +258,16 @@ TEST(LimitCounterMoves, BadInputIsRefused) {
   p.engraved_share = std::nan("");
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   p = with_height(1.0);
+  p.released_min_lean = 0.0;
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p.released_min_lean = 1.5;
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  p.released_min_lean = std::nan("");
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
+  EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, with_height(1.0),
+                                   std::vector<std::uint8_t>(3, 0)),
+               std::invalid_argument);
+  p = with_height(1.0);
   p.count_from = std::nan("");
   EXPECT_THROW(limit_counter_moves(m.P, m.updated, m.N, m.texture, p), std::invalid_argument);
   EXPECT_THROW(limit_counter_moves(m.P, m.updated.topRows(5), m.N, m.texture, with_height(1.0)),
@@ -217,7 +279,7 @@ TEST(LimitCounterMoves, BadInputIsRefused) {
 
 // Through remove_texture: a plane with 25 raised bumps and one dent of the
 // same size between them. The bumps' points go down, so the relief leans
-// raised and no point rises by more than a quarter of the texture height:
+// raised and no point rises by more than l (0.125) of the texture height:
 // the dent, a minority feature, is filled by that much only (the price of
 // the limit, README's known limits). With the limit off it is filled.
 TEST(LimitCounterMoves, RemoveTextureCutsRisesUnderRaisedRelief) {
@@ -252,10 +314,50 @@ TEST(LimitCounterMoves, RemoveTextureCutsRisesUnderRaisedRelief) {
   EXPECT_EQ(free.report.counter_moves_limited, 0u);
   const double rise_limited = (limited.positions.col(2) - P.col(2)).maxCoeff();
   const double rise_free = (free.positions.col(2) - P.col(2)).maxCoeff();
-  EXPECT_LE(rise_limited, 0.25 * h + 1e-12);
+  EXPECT_LE(rise_limited, RemoveTextureParams().counter_moves.limit * h + 1e-12);
   EXPECT_GT(rise_free, 0.5 * h);
   EXPECT_LT(limited.positions(dent, 2), -0.5 * amplitude);
   EXPECT_GT(free.positions(dent, 2), -0.25 * amplitude);
+}
+
+// Through remove_texture, the waves pass: synth's torus with dense waves
+// (0.04 wide, 0.016 high, 30k points; r = 1.5 × 0.04) runs the update again
+// with the anchors of its flagged points lowered. With both leans lowered so
+// that both passes limit, the released points keep their outward moves:
+// fewer points are limited than with free_released off, and the outputs
+// differ. At the default leans the second pass's lean (about 0.33) limits
+// nothing either way.
+TEST(LimitCounterMoves, RemoveTextureFreesThePointsTheWavesPassReleased) {
+  SynthParams sp;
+  sp.shape = BaseShape::Torus;
+  sp.texture = TextureKind::Waves;
+  sp.layout = TextureLayout::Dense;
+  sp.size = 0.04;
+  sp.amplitude = 0.016;
+  sp.points = 30000;
+  sp.ground_truth_points = 1;
+  const SynthesizedShape torus = synthesize_shape(sp);
+  RemoveTextureParams p;
+  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
+  p.sigma_s = p.radius;
+  p.threads = 2;
+  p.counter_moves.min_lean = 0.01;
+  p.counter_moves.released_min_lean = 0.01;
+  const RemoveTextureResult freed = remove_texture(torus.positions, torus.normals, p);
+  p.counter_moves.free_released = false;
+  const RemoveTextureResult all = remove_texture(torus.positions, torus.normals, p);
+  ASSERT_GT(freed.report.waves_released, 0u);
+  EXPECT_GE(freed.report.relief_lean, 0.01);
+  EXPECT_GT(freed.report.counter_moves_limited, 0u);
+  EXPECT_LT(freed.report.counter_moves_limited, all.report.counter_moves_limited);
+  EXPECT_FALSE(freed.positions == all.positions);
+  p = RemoveTextureParams();
+  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
+  p.sigma_s = p.radius;
+  p.threads = 2;
+  const RemoveTextureResult plain = remove_texture(torus.positions, torus.normals, p);
+  EXPECT_LT(plain.report.relief_lean, p.counter_moves.released_min_lean);
+  EXPECT_EQ(plain.report.counter_moves_limited, 0u);
 }
 
 }  // namespace

@@ -296,12 +296,12 @@ void bind_stages(py::module_& m) {
       py::arg("neighborhoods"), py::arg("is_texture") = py::none(), keep_doc.c_str());
 
   static const std::string counter_doc = stage_doc<LimitCounterMovesParams>(
-      m, "limit_counter_moves", "points, updated, normals, is_texture",
+      m, "limit_counter_moves", "points, updated, normals, is_texture, released=None",
       "positions, lean, side, limited", "LimitCounterMovesParams");
   m.def(
       "limit_counter_moves",
       [](const py::object& points, const py::object& updated, const py::object& normals,
-         const py::object& is_texture, const py::kwargs& kwargs) {
+         const py::object& is_texture, const py::object& released, const py::kwargs& kwargs) {
         const auto params =
             params_from_kwargs<LimitCounterMovesParams>(kwargs, "limit_counter_moves");
         validate(params);
@@ -312,10 +312,14 @@ void bind_stages(py::module_& m) {
         check_rows(P, N, "normals");
         const std::vector<std::uint8_t> t =
             to_vector<std::uint8_t>(is_texture, "is_texture", static_cast<std::size_t>(P.rows()));
+        const std::vector<std::uint8_t> r =
+            released.is_none()
+                ? std::vector<std::uint8_t>()
+                : to_vector<std::uint8_t>(released, "released", static_cast<std::size_t>(P.rows()));
         LimitCounterMovesResult c;
         {
           py::gil_scoped_release release;
-          c = limit_counter_moves(P, Q, N, t, params);
+          c = limit_counter_moves(P, Q, N, t, params, r);
         }
         py::dict d;
         d["positions"] = to_array(std::move(c.positions));
@@ -325,7 +329,7 @@ void bind_stages(py::module_& m) {
         return d;
       },
       py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("is_texture"),
-      counter_doc.c_str());
+      py::arg("released") = py::none(), counter_doc.c_str());
 
   static const std::string tip_doc = stage_doc<LimitTipMovesParams>(
       m, "limit_tip_moves", "points, updated, normals, neighborhoods", "positions, limited",

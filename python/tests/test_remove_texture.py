@@ -420,12 +420,14 @@ def test_texture_facets_match_the_command_line(work):
 
 
 def test_counter_moves_match_the_command_line(work):
-    """Under raised relief no point moves outward by more than a quarter of
+    """Under raised relief no point moves outward by more than an eighth of
     the texture height: a dent among raised bumps is filled by that much only
     (counter_moves_limit = 0 fills it), the same from Python and from the
     command line."""
     d = detexture.default_parameters()
-    assert (d["counter_moves_limit"], d["counter_moves_min_lean"]) == (0.25, 0.35)
+    assert (d["counter_moves_limit"], d["counter_moves_min_lean"]) == (0.125, 0.35)
+    assert d["counter_moves_free_released"] is True
+    assert d["counter_moves_released_min_lean"] == 0.5
     assert d["counter_moves_count_from"] == 0.5 and d["counter_moves_engraved_share"] == 0.5
     assert d["counter_moves_soft"] is True and d["counter_moves_engraved_min_lean"] == 0.5
     assert "counter_moves_height" not in d
@@ -443,7 +445,7 @@ def test_counter_moves_match_the_command_line(work):
     h = limited.report.texture_height
     assert limited.report.relief_lean >= 0.35 and limited.report.counter_moves_limited > 0
     assert free.report.counter_moves_limited == 0
-    assert (limited.positions[:, 2] - z).max() <= 0.25 * h + 1e-12
+    assert (limited.positions[:, 2] - z).max() <= 0.125 * h + 1e-12
     i = np.argmin(dent)
     assert limited.positions[i, 2] < -0.015 < -0.0075 < free.positions[i, 2]
     out = work / "dent_free.ply"
@@ -459,6 +461,8 @@ def test_counter_moves_match_the_command_line(work):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_min_lean=0.0)
     with pytest.raises(ValueError, match="counter-move-engraved-share"):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_engraved_share=1.5)
+    with pytest.raises(ValueError, match="counter-move-released-lean"):
+        detexture.remove_texture(cloud, radius=0.1, counter_moves_released_min_lean=0.0)
 
 
 def test_tip_moves_match_the_command_line(work):

@@ -183,8 +183,8 @@ def test_keep_input_normals_where_nothing_moved():
 
 def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
     # Ten texture points went down by 1 (raised relief, h = 1); of the
-    # others one rose by 0.8 and one by 0.1: they saturate at 0.25
-    # (0.25 tanh(t / 0.25)), or with soft=False the first is cut to 0.25.
+    # others one rose by 0.8 and one by 0.1: at l = 0.25 they saturate at
+    # 0.25 (0.25 tanh(t / 0.25)), or with soft=False the first is cut to 0.25.
     P = np.zeros((20, 3))
     P[:, 0] = np.arange(20)
     N = np.tile([0.0, 0.0, 1.0], (20, 1))
@@ -192,15 +192,29 @@ def test_limit_counter_moves_cuts_outward_moves_under_raised_relief():
     moved[:10, 2] = -1.0
     moved[10, 2], moved[11, 2] = 0.8, 0.1
     texture = np.arange(20) < 10
-    c = detexture.limit_counter_moves(P, moved, N, texture, height=1.0)
+    c = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=0.25)
     assert c["lean"] == 1.0 and c["side"] == 1 and c["limited"] == 1
     expected = moved.copy()
     expected[10, 2], expected[11, 2] = 0.25 * np.tanh(3.2), 0.25 * np.tanh(0.4)
     assert np.allclose(c["positions"], expected, rtol=0, atol=1e-15)
-    hard = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, soft=False)
+    hard = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=0.25, soft=False)
     expected = moved.copy()
     expected[10, 2] = 0.25
     assert np.array_equal(hard["positions"], expected)
+    # Released by the waves pass (session 27): point 10 keeps its 0.8; the
+    # default limit is l = 0.125, so point 11 saturates at 0.125 tanh(0.8),
+    # past l / 2: counted.
+    released = np.zeros(20, dtype=bool)
+    released[10] = True
+    freed = detexture.limit_counter_moves(P, moved, N, texture, released, height=1.0)
+    expected = moved.copy()
+    expected[11, 2] = 0.125 * np.tanh(0.8)
+    assert np.allclose(freed["positions"], expected, rtol=0, atol=1e-15) and freed["limited"] == 1
+    held = detexture.limit_counter_moves(P, moved, N, texture, released, height=1.0,
+                                         free_released=False)
+    assert held["positions"][10, 2] < 0.125 and held["limited"] == 2
+    with pytest.raises(ValueError, match="released"):
+        detexture.limit_counter_moves(P, moved, N, texture, released[:5], height=1.0)
     off = detexture.limit_counter_moves(P, moved, N, texture, height=1.0, limit=0.0)
     assert np.array_equal(off["positions"], moved) and off["limited"] == 0
     with pytest.raises(ValueError, match="counter-move-limit"):

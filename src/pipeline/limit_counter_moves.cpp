@@ -20,6 +20,11 @@ void validate(const LimitCounterMovesParams& p) {
     throw std::invalid_argument(
         "the lean that makes the relief raised (--counter-move-lean) must be in (0, 1], got " +
         number_text(p.min_lean));
+  if (!(p.released_min_lean > 0.0 && p.released_min_lean <= 1.0))
+    throw std::invalid_argument(
+        "the lean that makes the relief raised in the waves pass (--counter-move-released-lean) "
+        "must be in (0, 1], got " +
+        number_text(p.released_min_lean));
   if (!(p.engraved_min_lean > 0.0 && p.engraved_min_lean <= 1.0))
     throw std::invalid_argument(
         "the lean that makes the relief engraved (--counter-move-engraved-lean) must be in (0, "
@@ -38,12 +43,16 @@ void validate(const LimitCounterMovesParams& p) {
 LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions& updated,
                                             const Normals& normals,
                                             const std::vector<std::uint8_t>& is_texture,
-                                            const LimitCounterMovesParams& params) {
+                                            const LimitCounterMovesParams& params,
+                                            const std::vector<std::uint8_t>& released) {
   validate(params);
   const std::size_t n = static_cast<std::size_t>(P.rows());
   if (updated.rows() != P.rows() || normals.rows() != P.rows() || is_texture.size() != n)
     throw std::invalid_argument(
         "limit_counter_moves: positions, normals and labels differ in size");
+  if (!released.empty() && released.size() != n)
+    throw std::invalid_argument(
+        "limit_counter_moves: the released flags differ in size from the positions");
   LimitCounterMovesResult out;
   out.positions = updated;
   if (params.limit == 0.0 || params.height == 0.0) return out;
@@ -61,15 +70,17 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
   if (inward + outward == 0) return out;
   out.lean = (static_cast<double>(inward) - static_cast<double>(outward)) /
              static_cast<double>(inward + outward);
-  if (out.lean >= params.min_lean)
+  if (out.lean >= (released.empty() ? params.min_lean : params.released_min_lean))
     out.side = 1;
   else if (out.lean <= -params.engraved_min_lean &&
            static_cast<double>(texture) <= params.engraved_share * static_cast<double>(n))
     out.side = -1;
   if (out.side == 0) return out;
   const double limit = params.limit * params.height;
+  const bool free_released = out.side > 0 && params.free_released && !released.empty();
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(t[i])) continue;
+    if (free_released && released[i]) continue;
     const double against = out.side > 0 ? t[i] : -t[i];
     if (against <= 0.0) continue;
     const double kept = params.soft ? limit * std::tanh(against / limit) : std::min(against, limit);

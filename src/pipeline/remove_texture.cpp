@@ -468,13 +468,16 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   LimitTipMovesParams tp = params.tips;
   tp.radius = up.solve_radius;
   tp.lambda = rep.lambda;
-  const auto keep_update = [&](UpdatePositionsResult&& u) {
+  // released: the points whose anchors the waves pass lowered (empty on the
+  // first pass), for limit_counter_moves.
+  const auto keep_update = [&](UpdatePositionsResult&& u,
+                               const std::vector<std::uint8_t>& released) {
     rep.update_isolated = u.isolated;
     rep.update_iterations = u.iterations;
     rep.mean_displacement = u.mean_displacement;
     rep.moves_limited = u.limited;
     LimitCounterMovesResult c =
-        limit_counter_moves(P, u.positions, filtered, result.is_texture, cp);
+        limit_counter_moves(P, u.positions, filtered, result.is_texture, cp, released);
     rep.relief_lean = c.lean;
     rep.counter_moves_limited = c.limited;
     LimitTipMovesResult t = limit_tip_moves(P, c.positions, result.input_normals, R, tp);
@@ -489,7 +492,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
       shrink_neighborhoods(R, P, up.solve_radius);
     keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
-                                 result.input_normals, up, clock.progress()));
+                                 result.input_normals, up, clock.progress()),
+                {});
   }
   if (params.fit_normals && T.rows() == 0) {
     FitNormalsToPositionsResult fit;
@@ -530,11 +534,13 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
         StageClock clock(observer, rep, "update positions, waves");
         const float factor = static_cast<float>(std::pow(up.anchor_texture / up.anchor_surface, t));
         std::vector<float> scale(n, 1.0f);
+        std::vector<std::uint8_t> released(n, 0);
         for (std::size_t i = 0; i < n; ++i)
-          if (!result.is_texture[i] && fit.waves[i]) scale[i] = factor;
+          if (!result.is_texture[i] && fit.waves[i]) scale[i] = factor, released[i] = 1;
         rep.waves_released = flagged;
         keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
-                                     result.input_normals, scale, up, clock.progress()));
+                                     result.input_normals, scale, up, clock.progress()),
+                    released);
       }
     }
     // No waves left (remove_texture.h, blend_share_low): the blend with the
