@@ -504,28 +504,6 @@ TEST(FitNormalsToPositions, WavesLeftAreFlaggedAtTheirCrestsAndTroughs) {
   EXPECT_THROW(fit_normals_to_positions(s.P, guide, R, p), std::invalid_argument);
 }
 
-// synth's torus with dense waves 0.04 wide and 0.016 high (30k points), and
-// the suites' rule for it: r = σs = 1.5 × 0.04.
-SynthesizedShape wavy_torus() {
-  SynthParams sp;
-  sp.shape = BaseShape::Torus;
-  sp.texture = TextureKind::Waves;
-  sp.layout = TextureLayout::Dense;
-  sp.size = 0.04;
-  sp.amplitude = 0.016;
-  sp.points = 30000;
-  sp.ground_truth_points = 1;
-  return synthesize_shape(sp);
-}
-
-RemoveTextureParams wavy_torus_params() {
-  RemoveTextureParams p;
-  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
-  p.sigma_s = p.radius;
-  p.threads = 2;
-  return p;
-}
-
 // Through remove_texture, the second pass: a torus with dense waves (synth's,
 // 0.04 wide and 0.016 high, 30k points; r = 1.5 × 0.04) flags more than
 // wave_share_high of its surface points, and keeps less of its waves than
@@ -534,8 +512,8 @@ RemoveTextureParams wavy_torus_params() {
 // sphere with a few bumps flags under wave_share_low and is left as the
 // first pass made it.
 TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
-  const SynthesizedShape torus = wavy_torus();
-  RemoveTextureParams p = wavy_torus_params();
+  const SynthesizedShape torus = test::wavy_torus();
+  RemoveTextureParams p = test::wavy_torus_params();
   // The fit's normals alone: the input normals kept afterwards follow the
   // final positions (keep_input_normals.h), which the second pass moves.
   p.keep_input.high = 0.0;
@@ -601,8 +579,8 @@ TEST(FitNormalsToPositions, RemoveTextureOpensTheBlendWhereNoWavesAreLeft) {
   EXPECT_TRUE(gated.normals == wide.normals);
   EXPECT_EQ(gated.report.normals_blended, wide.report.normals_blended);
 
-  const SynthesizedShape torus = wavy_torus();
-  RemoveTextureParams q = wavy_torus_params();
+  const SynthesizedShape torus = test::wavy_torus();
+  RemoveTextureParams q = test::wavy_torus_params();
   const RemoveTextureResult waves = remove_texture(torus.positions, Normals(), q);
   EXPECT_GT(waves.report.waves_flagged,
             static_cast<std::size_t>(q.blend_share_high *

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "detexture/eval/synthesize_shape.h"
 #include "detexture/pipeline/remove_texture.h"
 #include "test_support.h"
 
@@ -328,19 +327,8 @@ TEST(LimitCounterMoves, RemoveTextureCutsRisesUnderRaisedRelief) {
 // differ. At the default leans the second pass's lean (about 0.33) limits
 // nothing either way.
 TEST(LimitCounterMoves, RemoveTextureFreesThePointsTheWavesPassReleased) {
-  SynthParams sp;
-  sp.shape = BaseShape::Torus;
-  sp.texture = TextureKind::Waves;
-  sp.layout = TextureLayout::Dense;
-  sp.size = 0.04;
-  sp.amplitude = 0.016;
-  sp.points = 30000;
-  sp.ground_truth_points = 1;
-  const SynthesizedShape torus = synthesize_shape(sp);
-  RemoveTextureParams p;
-  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
-  p.sigma_s = p.radius;
-  p.threads = 2;
+  const SynthesizedShape torus = test::wavy_torus();
+  RemoveTextureParams p = test::wavy_torus_params();
   p.counter_moves.min_lean = 0.01;
   p.counter_moves.released_min_lean = 0.01;
   const RemoveTextureResult freed = remove_texture(torus.positions, torus.normals, p);
@@ -351,10 +339,7 @@ TEST(LimitCounterMoves, RemoveTextureFreesThePointsTheWavesPassReleased) {
   EXPECT_GT(freed.report.counter_moves_limited, 0u);
   EXPECT_LT(freed.report.counter_moves_limited, all.report.counter_moves_limited);
   EXPECT_FALSE(freed.positions == all.positions);
-  p = RemoveTextureParams();
-  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
-  p.sigma_s = p.radius;
-  p.threads = 2;
+  p = test::wavy_torus_params();
   const RemoveTextureResult plain = remove_texture(torus.positions, torus.normals, p);
   EXPECT_LT(plain.report.relief_lean, p.counter_moves.released_min_lean);
   EXPECT_EQ(plain.report.counter_moves_limited, 0u);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "detexture/eval/synthesize_shape.h"
+#include "detexture/pipeline/remove_texture.h"
 #include "detexture/types.h"
 
 namespace detexture::test {
@@ -116,6 +118,28 @@ inline BumpyPlane cube_faces(int m) {
           s.N.row(row++) = n;
         }
   return s;
+}
+
+// synth's torus with dense waves 0.04 wide and 0.016 high (30k points), and
+// the suites' rule for it: r = σs = 1.5 × 0.04.
+inline SynthesizedShape wavy_torus() {
+  SynthParams sp;
+  sp.shape = BaseShape::Torus;
+  sp.texture = TextureKind::Waves;
+  sp.layout = TextureLayout::Dense;
+  sp.size = 0.04;
+  sp.amplitude = 0.016;
+  sp.points = 30000;
+  sp.ground_truth_points = 1;
+  return synthesize_shape(sp);
+}
+
+inline RemoveTextureParams wavy_torus_params() {
+  RemoveTextureParams p;
+  p.radius = Length{1.5 * 0.04, Length::Unit::Absolute};
+  p.sigma_s = p.radius;
+  p.threads = 2;
+  return p;
 }
 
 }  // namespace detexture::test
