@@ -79,7 +79,7 @@
 // -0.2%, the broad check's 36 -0.3% / -0.9%, the real suite +0.1% / -0.6%,
 // bench/quality -0.04% / +0.01%; the worst case the axe's U grooves +1.9% /
 // +2.3%, the spider +0.8% / -4.8%; Dmax over 1.25 × the input's in as many
-// cases. Each part alone: the released points free, -2.9% to -3.4%
+// cases. Each part alone: the released points free, -1.0% to -3.4%
 // residual on the five U grooves and no case worse; l = 0.125 alone, the
 // torus with waves +32% residual (its second pass then leaned 0.37 and was
 // limited); without the clearer lean, +9%; the raised limit off in the

@@ -126,7 +126,8 @@ struct RemoveTextureParams {
   /// session 27 the second update over waves leaves the points it released
   /// free and asks for a clearer lean, and the limit is an eighth of the
   /// height instead of a quarter: on the 96 unseen cases -0.3% to -1.9%
-  /// residual texture per group, those U grooves -3%.
+  /// residual texture per group, three of those U grooves -3% (the axe's
+  /// +2.3%).
   LimitCounterMovesParams counter_moves;
   /// Moves past the tips of the relief (limit_tip_moves.h; after the counter
   /// moves, with every update): a point that is the top of its relief within
