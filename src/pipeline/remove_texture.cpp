@@ -536,7 +536,10 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
         std::vector<float> scale(n, 1.0f);
         std::vector<std::uint8_t> released(n, 0);
         for (std::size_t i = 0; i < n; ++i)
-          if (!result.is_texture[i] && fit.waves[i]) scale[i] = factor, released[i] = 1;
+          if (!result.is_texture[i] && fit.waves[i]) {
+            scale[i] = factor;
+            released[i] = 1;
+          }
         rep.waves_released = flagged;
         keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
                                      result.input_normals, scale, up, clock.progress()),
