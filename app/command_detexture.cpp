@@ -617,10 +617,14 @@ int run_detexture(int argc, char** argv) {
   app.add_option("--keep-input-facet-neighbors", params.keep_input.facet_neighbors,
                  "Output normals: an input normal also counts as exact where, among this many "
                  "nearest neighbors, those whose input normals lie within "
-                 "--keep-input-still-uniform of it (its facet, at least 8) lie in its tangent "
-                 "plane and spread in two directions, and at most 2 others turn gradually (up "
-                 "to 3 times that angle) instead of by an edge's jump: facets a few points "
-                 "wide; 0 for none")
+                 "--keep-input-still-uniform of it (its facet, at least "
+                 "--keep-input-facet-members) lie in its tangent plane and spread in two "
+                 "directions, and at most 2 others turn gradually (up to 3 times that angle) "
+                 "instead of by an edge's jump: facets a few points wide; 0 for none")
+      ->capture_default_str();
+  app.add_option("--keep-input-facet-members", params.keep_input.facet_members,
+                 "Output normals: the fewest members (>= 3) a facet needs for "
+                 "--keep-input-facet-neighbors; 8 before session 28")
       ->capture_default_str();
   app.add_option("--keep-input-still-reach", params.keep_input.still_reach,
                  "Output normals: for --keep-input-still-angle, some fitted normal within "

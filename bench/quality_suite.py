@@ -299,6 +299,10 @@ DETEXTURE_VARIANTS = [
      "exact input normals taken at surface points only, not also at texture-labelled points "
      "whose nearest neighbors' input normals agree (keep_input_normals.h; session 25's reach "
      "and facet move without its third change)"),
+    ("facet-members-8", ["--keep-input-facet-members", "8"],
+     "a facet found past its edges needs 8 members among the 24 nearest, not 4: small "
+     "facets of low-poly models keep the fitted normal (keep_input_normals.h; the default "
+     "before session 28)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

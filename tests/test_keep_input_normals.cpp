@@ -357,6 +357,51 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   EXPECT_EQ(strip(0.15), 3 * 17);
 }
 
+// Small facets (session 28): the flat grid z = 0 (normal +z, spacing 0.1)
+// with a plate of 2 x 3 points (x in {0, 0.1}, y in {0, 0.1, 0.2}) tilted
+// by 15° about the line x = 0.05, z = 0, as the small facets of a low-poly
+// model; exact input normals, output normals 2° off them, every point moved
+// by 0.5 λ. The plate's 8 nearest neighbors reach the grid (0.013-0.05 off
+// its plane), so the plain test fails; among its 24 nearest its facet has
+// 5 members, in its plane and spread in both directions, the other 19
+// normals 15° off (a jump): taken with m = 4 (the default) or 5, not with
+// m = 6 nor m = 8 (before session 28).
+TEST(KeepInputNormals, SmallFacetsAreFound) {
+  constexpr int side = 21;
+  const double lambda = 0.01, tilt = 15.0 * M_PI / 180.0, turn = 2.0 * M_PI / 180.0;
+  Positions P(side * side, 3);
+  Normals in(side * side, 3), out(side * side, 3);
+  std::vector<int> plate;
+  for (int i = 0; i < P.rows(); ++i) {
+    const int cx = i % side - 10, cy = i / side - 10;
+    const double x = 0.1 * cx, y = 0.1 * cy;
+    const bool on_plate = (cx == 0 || cx == 1) && cy >= 0 && cy <= 2;
+    const double a = on_plate ? tilt : 0.0;
+    P.row(i) = Eigen::RowVector3d(x, y, on_plate ? std::tan(tilt) * (x - 0.05) : 0.0);
+    in.row(i) = Eigen::RowVector3d(-std::sin(a), 0.0, std::cos(a));
+    out.row(i) = Eigen::RowVector3d(-std::sin(a + turn), 0.0, std::cos(a + turn));
+    if (on_plate) plate.push_back(i);
+  }
+  ASSERT_EQ(plate.size(), 6u);
+  const Neighborhoods R = radius_neighborhoods(P, {0.3, 0});
+  Positions updated = P;
+  updated.col(1).array() += 0.5 * lambda;
+  const auto plate_taken = [&](int members) {
+    KeepInputNormalsParams q = params_at(0.25, lambda);
+    q.facet_members = members;
+    const KeepInputNormalsResult r = keep_input_normals(P, updated, in, out, {}, R, q);
+    int taken = 0;
+    for (int i : plate) taken += test::angle_deg(r.normals.row(i), in.row(i)) < 1e-9;
+    EXPECT_GE(r.facets, static_cast<std::size_t>(taken)) << "m = " << members;
+    return taken;
+  };
+  ASSERT_EQ(KeepInputNormalsParams{}.facet_members, 4);
+  EXPECT_EQ(plate_taken(4), 6);
+  EXPECT_EQ(plate_taken(5), 6);
+  EXPECT_EQ(plate_taken(6), 0);
+  EXPECT_EQ(plate_taken(8), 0);
+}
+
 // Texture-labelled facets: the grid of the test above, every point
 // labelled texture. Moved by 0.5 λ, the same columns are taken as for
 // surface points (the input normals are exact and agree), all counted as
@@ -523,6 +568,11 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   p.facet_neighbors = 0;
   EXPECT_NO_THROW(validate(p));
   p.facet_neighbors = 7;  // reads exact_neighbors (8)
+  EXPECT_NO_THROW(validate(p));
+  p = params_at(0.2, 0.01);
+  p.facet_members = 2;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.facet_members = 3;
   EXPECT_NO_THROW(validate(p));
   p = params_at(0.2, 0.01);
   p.facet_spread = 0.0;

@@ -345,7 +345,7 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     high 0.2, in units of λ), and exact ones (residual 0.05 λ over 8
     neighbors) within 4° of the fitted normal, and up to 20° where nothing
     moved by more than λ (facets, also found past their edges among 24
-    neighbors); keep_input_high = 0,
+    neighbors, at least 4 of them); keep_input_high = 0,
     keep_input_exact_angle_deg = 0 and keep_input_still_angle_deg = 0 keep
     none, the same from Python and from the command line, and the positions
     do not change. The move alone and exactness alone each keep some (the
@@ -357,7 +357,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert (d["keep_input_still_angle_deg"], d["keep_input_still_move"],
             d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
     assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
-            d["keep_input_facet_jump"], d["keep_input_facet_transitional"]) == (24, 0.1, 3.0, 2)
+            d["keep_input_facet_jump"], d["keep_input_facet_transitional"],
+            d["keep_input_facet_members"]) == (24, 0.1, 3.0, 2, 4)
     assert (d["keep_input_still_reach"], d["keep_input_still_facet_move"],
             d["keep_input_texture_facets"]) == (0.5, True, True)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d
@@ -388,6 +389,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert without.report.input_normals_kept < with_facets.report.input_normals_kept
     with pytest.raises(ValueError, match="facet-neighbors"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_facet_neighbors=-1)
+    with pytest.raises(ValueError, match="facet-members"):
+        detexture.remove_texture(cloud, radius=0.09, keep_input_facet_members=2)
     # The cone and the move over the whole ball (before session 25): the same
     # from both sides.
     default_and_option(

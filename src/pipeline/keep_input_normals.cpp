@@ -58,6 +58,11 @@ void validate(const KeepInputNormalsParams& p) {
         "the number of neighbors the facet test of input normals reads "
         "(--keep-input-facet-neighbors) must be >= 0 (0: off), got " +
         number_text(p.facet_neighbors));
+  if (p.facet_members < 3)
+    throw std::invalid_argument(
+        "the facet test of input normals needs at least 3 members "
+        "(--keep-input-facet-members), got " +
+        number_text(p.facet_members));
   if (!(p.facet_spread > 0.0 && p.facet_spread <= 1.0))
     throw std::invalid_argument(
         "the facet test's spread (KeepInputNormalsParams::facet_spread, Python "
@@ -149,7 +154,7 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       second += d * d.transpose();
       ++members;
     }
-    if (members < params.exact_neighbors || sum > max_residual * members) return false;
+    if (members < params.facet_members || sum > max_residual * members) return false;
     mean /= members;
     const Eigen::Matrix3d cov = second / members - mean * mean.transpose();
     const Eigen::Vector3d spread =

@@ -85,12 +85,13 @@
 // test). ñ_i also counts as exact (both tests) where it is a flat facet's:
 //
 //   F_i = { j among the K nearest of R_i : ∠(ñ_j, ñ_i) <= φ },
-//   |F_i| >= k,   (1/|F_i|) Σ_{j ∈ F_i} |ñ_i·(p_j - p_i)| <= e λ,
+//   |F_i| >= m,   (1/|F_i|) Σ_{j ∈ F_i} |ñ_i·(p_j - p_i)| <= e λ,
 //   σ_2(F_i) >= s σ_1(F_i),   #{ j among the K : φ < ∠(ñ_j, ñ_i) <= c φ } <= t,
 //
-// with K = facet_neighbors (at least k), s = facet_spread, c = facet_jump,
-// t = facet_transitional, σ_1 >= σ_2 the largest eigenvalues of the
-// covariance of F_i's positions (σ_1 > 0), angles between normals unsigned
+// with K = facet_neighbors (at least k), m = facet_members (k until
+// session 28), s = facet_spread, c = facet_jump, t = facet_transitional,
+// σ_1 >= σ_2 the largest eigenvalues of the covariance of F_i's positions
+// (σ_1 > 0), angles between normals unsigned
 // (|ñ_j·ñ_i|), and neighbors without a normal counted among the K but in
 // neither set. With φ = 0 no neighbor is transitional. The members of its facet lie in its tangent
 // plane and spread in two directions (not a line along a cylinder's or a wave's ruling, whose
@@ -204,6 +205,9 @@ struct KeepInputNormalsParams {
   /// turns it off (before session 24); fewer than exact_neighbors reads
   /// exact_neighbors.
   int facet_neighbors = 24;
+  /// m: the facet (F_i above) needs at least this many members among the K;
+  /// >= 3. 8 (exact_neighbors) before session 28 (below).
+  int facet_members = 4;
   /// s: the facet's members must spread in two directions: the second
   /// eigenvalue of their covariance at least this share of the first; in
   /// (0, 1].
