@@ -12,8 +12,12 @@ cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/install_fuzz_deps.sh
 # PCL's own command-line tools, so that tests/test_pcd_pcl.cpp checks our PCD
-# files against PCL's reader and writer instead of skipping (issue 13).
-bash scripts/install_deps.sh pcl-tools
+# files against PCL's reader and writer instead of skipping (issue 13), and
+# assimp's test models (20 MB), so that the two tests that read them
+# (CliHardening.AssimpTestModelsAreReadOrRefusedCleanly,
+# MeshFormats.AssimpWusonIsTheSameMeshInEveryFormat) run instead of skipping:
+# a clean clone's CI skipped them until session 30.
+bash scripts/install_deps.sh pcl-tools assimp-testmodels
 bash scripts/build.sh
 start=$(date +%s)
 ctest --test-dir build --output-on-failure -j "$(nproc)"
