@@ -31,8 +31,8 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # uninlined Eigen left the suite 1.6 times slower than -O1 (session 11, on a
 # machine half as fast as session 9's: build 243 s against 254 s, suite 379 s
 # against 236 s, 2 jobs). DETEXTURE_TESTS_UBSAN=OFF compiles the tests' own
-# code without UBSan (the library and the CLI keep it): the tests target built
-# in 119 s instead of 175 s, and the suite ran in 279 s instead of 311 s
+# code without UBSan (the library and the CLI keep it; why and the build's
+# figures in tests/CMakeLists.txt): the suite ran in 279 s instead of 311 s
 # (session 30, side by side, 2 jobs).
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
