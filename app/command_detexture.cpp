@@ -226,6 +226,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"relief_lean\": %.6g,\n  \"counter_moves_limited\": %zu,\n", r.relief_lean,
       r.counter_moves_limited);
   add("  \"tip_moves_limited\": %zu,\n", r.tip_moves_limited);
+  add("  \"raised_cells_lowered\": %zu,\n", r.raised_cells_lowered);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
@@ -425,6 +426,18 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tip-slack", params.tips.slack,
                  "How far past its farthest neighbor a tip may lie, and end, in units of λ")
+      ->capture_default_str();
+  app.add_flag("!--keep-cells-tops", params.raised_cells.enabled,
+               "Leave the output on the tops of dense raised cells (scales packed edge to "
+               "edge, read from a lean of at least --counter-move-engraved-lean outward and "
+               "more than --counter-move-engraved-share texture) instead of lowering it to "
+               "the cells' feet (the paper)");
+  app.add_option("--cells-low-quantile", params.raised_cells.low_quantile,
+                 "Dense raised cells: the quantile of the input's heights below the output, "
+                 "within the solve radius, read as the cells' feet")
+      ->capture_default_str();
+  app.add_option("--cells-spread-quantile", params.raised_cells.spread_quantile,
+                 "Dense raised cells: the quantile of the neighbors' feet a point sinks to")
       ->capture_default_str();
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
@@ -989,6 +1002,10 @@ int run_detexture(int argc, char** argv) {
       if (r.tip_moves_limited > 0)
         std::fprintf(stderr, "  tips of the relief held at their neighbors: %zu points\n",
                      r.tip_moves_limited);
+      if (r.raised_cells_lowered > 0)
+        std::fprintf(stderr,
+                     "  dense raised cells (lean %.2f): %zu points lowered to the cells' feet\n",
+                     r.relief_lean, r.raised_cells_lowered);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());

@@ -246,7 +246,7 @@ DETEXTURE_VARIANTS = [
                      "--subneighborhood", "hard", "--vote-normal-angle", "180",
                      "--thin-part-radius", "1", "--guidance", "patch-shift",
                      "--surface-split-angle", "180", "--output-normals", "filtered",
-                     "--counter-move-limit", "0", "--tip-depth", "0"],
+                     "--counter-move-limit", "0", "--tip-depth", "0", "--keep-cells-tops"],
      "the paper's plane test in Eq. 2 and R_i across sheets, no move limit (before issue 9)"),
     ("full-anchors", ["--anchor-height", "0", "--anchor-angle", "0"],
      "every surface point held fully at its place by the global update, also when noisy or on "
@@ -322,12 +322,16 @@ DETEXTURE_VARIANTS = [
     ("counter-hard", ["--counter-move-hard"],
      "moves against the relief cut at the limit instead of saturated smoothly "
      "(limit_counter_moves.h; the default in session 19)"),
-    ("no-counter-engraved", ["--counter-move-engraved-share", "0"],
+    ("no-counter-engraved", ["--counter-move-engraved-share", "0", "--keep-cells-tops"],
      "inward moves never limited where the relief leans engraved, even where the texture is "
      "sparse (grooves; limit_counter_moves.h; the default in session 19)"),
     ("counter-engraved-all", ["--counter-move-engraved-share", "1"],
      "inward moves limited wherever the relief leans engraved, dense scales too "
      "(limit_counter_moves.h; an option)"),
+    ("cells-tops", ["--keep-cells-tops"],
+     "the output left on the tops of dense raised cells (scales packed edge to edge), whose "
+     "gaps the update lifted, instead of lowered to the cells' feet (lower_raised_cells.h; "
+     "the default before session 31)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),

@@ -55,7 +55,8 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
         "limit_counter_moves: the released flags differ in size from the positions");
   LimitCounterMovesResult out;
   out.positions = updated;
-  if (params.limit == 0.0 || params.height == 0.0) return out;
+  // The lean is read with the limit off too: lower_raised_cells reads it.
+  if (params.height == 0.0) return out;
   std::vector<double> t(n);
   std::size_t inward = 0, outward = 0, texture = 0;
   const double count_from = params.count_from * params.height;
@@ -75,6 +76,7 @@ LimitCounterMovesResult limit_counter_moves(const Positions& P, const Positions&
   else if (out.lean <= -params.engraved_min_lean &&
            static_cast<double>(texture) <= params.engraved_share * static_cast<double>(n))
     out.side = -1;
+  if (params.limit == 0.0) out.side = 0;
   if (out.side == 0) return out;
   const double limit = params.limit * params.height;
   const bool free_released = out.side > 0 && params.free_released && !released.empty();

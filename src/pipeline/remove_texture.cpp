@@ -157,6 +157,11 @@ void validate(const RemoveTextureParams& p) {
   tips.radius = 1.0;
   tips.lambda = 1.0;
   validate(tips);
+  LowerRaisedCellsParams cells = p.raised_cells;
+  cells.min_lean = p.counter_moves.engraved_min_lean;
+  cells.min_share = p.counter_moves.engraved_share;
+  cells.radius = 1.0;
+  validate(cells);
 }
 
 RadiusChoice choose_radius(const RemoveTextureParams& params, double diagonal,
@@ -575,6 +580,16 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     }
   }
   result.normals = std::move(filtered);
+  {
+    LowerRaisedCellsParams lp = params.raised_cells;
+    lp.min_lean = params.counter_moves.engraved_min_lean;
+    lp.min_share = params.counter_moves.engraved_share;
+    lp.radius = up.solve_radius;
+    LowerRaisedCellsResult l = lower_raised_cells(P, result.positions, result.normals,
+                                                  result.is_texture, rep.relief_lean, R, lp);
+    rep.raised_cells_lowered = l.lowered;
+    result.positions = std::move(l.positions);
+  }
   result.texture_height.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i)
     result.texture_height(static_cast<Eigen::Index>(i)) =

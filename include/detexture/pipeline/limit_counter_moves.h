@@ -129,7 +129,9 @@ struct LimitCounterMovesParams {
 
 struct LimitCounterMovesResult {
   Positions positions;  ///< #P by 3
-  double lean = 0.0;    ///< the lean above (0 when no texture point moved beyond c h)
+  /// the lean above (0 when no texture point moved beyond c h or h is 0;
+  /// read with l = 0 too, for lower_raised_cells.h)
+  double lean = 0.0;
   int side = 0;         ///< +1 raised (outward moves limited), -1 engraved, 0 none
   /// points that moved against the relief by more than l h / 2 (soft: cut
   /// by 7.6% or more), or by more than l h (the cut at l h)

@@ -29,6 +29,7 @@
 #include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/limit_counter_moves.h"
 #include "detexture/pipeline/limit_tip_moves.h"
+#include "detexture/pipeline/lower_raised_cells.h"
 #include "detexture/pipeline/repair_folds.h"
 #include "detexture/pipeline/update_positions.h"
 #include "detexture/threads.h"
@@ -140,6 +141,16 @@ struct RemoveTextureParams {
   /// per group, no case worse. radius and lambda are filled here; depth 0
   /// turns it off (before session 26).
   LimitTipMovesParams tips;
+  /// Dense raised cells lowered to their feet (lower_raised_cells.h; after
+  /// the output normals): where the relief leans engraved and more than
+  /// counter_moves.engraved_share of the points are texture (scales packed
+  /// edge to edge, whose gaps the update lifted to the cells' tops), each
+  /// point sinks by the quartile, over its neighbors within the solve
+  /// radius, of the lowest input (2%) below the output around them.
+  /// Measured (bench/quality_real_notes.md, session 31): see the header.
+  /// min_lean, min_share and radius are filled here; enabled = false is
+  /// the output on the cells' tops (before session 31).
+  LowerRaisedCellsParams raised_cells;
   /// Global update: surface points are anchored at their input positions
   /// less the farther they sit from the surface fitted to their own
   /// neighborhood (Eq. 2's models): by exp(-h²/(2 s²)) with s this multiple
@@ -393,6 +404,9 @@ struct RemoveTextureReport {
   /// Tips of the relief whose move was cut (limit_tip_moves.h), after the
   /// last update; tiled runs sum it.
   std::size_t tip_moves_limited = 0;
+  /// Points lowered to the feet of dense raised cells (lower_raised_cells.h;
+  /// 0 where the relief was not read as such); tiled runs sum it.
+  std::size_t raised_cells_lowered = 0;
   /// Output normals not fitted to the positions (fit_normals_to_positions.h):
   /// these keep the filtered normal.
   std::size_t normals_not_fitted = 0;

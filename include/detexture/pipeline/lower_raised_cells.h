@@ -1,0 +1,99 @@
+// Dense raised cells lowered to their feet (after Sec. 6, session 31): where
+// the removed relief was cells packed edge to edge (scales), whose narrow
+// gaps the update lifted to the cells' tops, the output sinks back to the
+// gaps' level.
+//
+//   t_j = (p_j - p'_j)·n_j                 the input below the output (< 0)
+//   a_i = Q_q1 { t_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
+//   b_i = Q_q2 { a_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
+//   c_i = mean { b_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
+//   p''_i = p'_i + min(c_i, 0) n_i
+//
+// where p are the input positions, p' the updated ones, n the output normals,
+// Q_q the q-quantile (the lower one, no interpolation), q1 = low_quantile
+// and q2 = spread_quantile. a_i reads the lowest input around i from the
+// output surface, each input point from its own output point, so a curved
+// underlying surface adds no sag; b_i spreads it over ρ and lets no single
+// stray point decide; c_i smooths it, so that the lowering adds no relief of
+// its own (without it, the residual texture rose by up to 8% on a model
+// where the lowering took 80% of Dmean off). It runs only where
+//
+//   lean <= -min_lean   and   texture share > min_share,
+//
+// with the lean of limit_counter_moves.h (the texture points' large moves
+// lean outward) and the share of points Eq. 2 labels texture. These are the
+// cases limit_counter_moves leaves alone because they are dense; remove_
+// texture passes its engraved_min_lean and engraved_share, so the two stages
+// split the engraved-leaning relief between them: sparse, it is engraved
+// (limited there); dense, it is raised cells (lowered here). The positions
+// only move; the normals stay as they are (the move is smooth over ρ).
+//
+// Why: on scales packed edge to edge (synth's dense scales, 46-84% of the
+// points labelled texture on the models measured), Eq. 2's planes and
+// quadrics run through the cells' tops, which count as surface and are
+// anchored; the gaps between cells are the texture, and the update lifts
+// them to the tops. The output then sits on the envelope of the tops, about
+// the texture height above the underlying surface everywhere (the median
+// point 0.0039-0.0043 above it where the scales are 0.005 high, on 15
+// unseen models and the real suite's bull, bench/quality_real_notes.md,
+// session 31), and every point the update carried past the tops adds to
+// that offset: Dmax 1.2-2 × the input's on 13 of those 16. Read from the
+// moves, the relief leans engraved (-0.61 to -0.98), as sparse grooves do,
+// but sparse grooves leave at most 40% of the points texture on the same
+// models (V grooves 19-40%, U grooves 21-54% and leaning raised).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "detexture/geometry/radius_neighborhoods.h"
+#include "detexture/types.h"
+
+namespace detexture {
+
+struct LowerRaisedCellsParams {
+  /// Lower dense raised cells at all; false leaves the output on the cells'
+  /// tops (the paper, and before session 31).
+  bool enabled = true;
+  /// q1: the quantile of the input's heights below the output around a
+  /// point that counts as the cells' feet; in [0, 1].
+  double low_quantile = 0.02;
+  /// q2: the quantile of the neighbors' q1 heights that the point takes; in
+  /// [0, 1].
+  double spread_quantile = 0.25;
+  /// The relief counts as raised cells when the lean is at most -min_lean;
+  /// in (0, 1]. RemoveTextureParams fills it with
+  /// counter_moves.engraved_min_lean.
+  double min_lean = 0.5;
+  /// ... and the texture points are more than this share of the cloud; in
+  /// [0, 1]. RemoveTextureParams fills it with counter_moves.engraved_share.
+  double min_share = 0.5;
+  /// ρ, the radius both quantiles are read within, in the cloud's units; >
+  /// 0. RemoveTextureParams fills it with the solve radius (0.5 r).
+  double radius = 0.0;
+};
+
+struct LowerRaisedCellsResult {
+  Positions positions;      ///< #P by 3
+  bool applied = false;     ///< the relief was read as dense raised cells
+  std::size_t lowered = 0;  ///< points moved (c_i < 0)
+};
+
+void validate(const LowerRaisedCellsParams& params);
+
+/// P  #P by 3 input positions p
+/// updated  #P by 3 updated positions p'
+/// normals  #P by 3 unit output normals n, oriented (outward)
+/// is_texture  #P Eq. 2 labels (for the share)
+/// lean  the relief's lean (LimitCounterMovesResult::lean)
+/// R  the neighborhoods; only neighbors within ρ count
+/// Throws std::invalid_argument on bad parameters or mismatched sizes.
+/// Deterministic for any thread count.
+LowerRaisedCellsResult lower_raised_cells(const Positions& P, const Positions& updated,
+                                          const Normals& normals,
+                                          const std::vector<std::uint8_t>& is_texture,
+                                          double lean, const Neighborhoods& R,
+                                          const LowerRaisedCellsParams& params);
+
+}  // namespace detexture

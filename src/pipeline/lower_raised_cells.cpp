@@ -1,0 +1,121 @@
+#include "detexture/pipeline/lower_raised_cells.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace detexture {
+
+void validate(const LowerRaisedCellsParams& p) {
+  if (!(p.low_quantile >= 0.0 && p.low_quantile <= 1.0))
+    throw std::invalid_argument("the quantile of the cells' feet (--cells-low-quantile) must lie "
+                                "in [0, 1], got " +
+                                number_text(p.low_quantile));
+  if (!(p.spread_quantile >= 0.0 && p.spread_quantile <= 1.0))
+    throw std::invalid_argument(
+        "the quantile spread over the neighbors (--cells-spread-quantile) must lie in [0, 1], "
+        "got " +
+        number_text(p.spread_quantile));
+  if (!(p.min_lean > 0.0 && p.min_lean <= 1.0))
+    throw std::invalid_argument("lower_raised_cells: the lean must lie in (0, 1], got " +
+                                number_text(p.min_lean));
+  if (!(p.min_share >= 0.0 && p.min_share <= 1.0))
+    throw std::invalid_argument("lower_raised_cells: the share must lie in [0, 1], got " +
+                                number_text(p.min_share));
+  if (!(p.radius > 0.0) || !std::isfinite(p.radius))
+    throw std::invalid_argument("lower_raised_cells: the radius must be positive, got " +
+                                number_text(p.radius));
+}
+
+namespace {
+
+// The lower q-quantile of v (no interpolation), reordering v.
+double quantile(std::vector<double>& v, double q) {
+  const std::size_t k = static_cast<std::size_t>(std::floor(q * static_cast<double>(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// For every point, the q-quantile of value over itself and its neighbors
+// within radius.
+std::vector<double> neighborhood_quantile(const Positions& P, const Neighborhoods& R,
+                                          const std::vector<double>& value, double radius_sq,
+                                          double q) {
+  const std::size_t n = value.size();
+  std::vector<double> out(n);
+#pragma omp parallel
+  {
+    std::vector<double> v;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::size_t i = 0; i < n; ++i) {
+      v.clear();
+      v.push_back(value[i]);
+      for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
+        if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq)
+          v.push_back(value[*it]);
+      out[i] = quantile(v, q);
+    }
+  }
+  return out;
+}
+
+// For every point, the mean of value over itself and its neighbors within
+// radius.
+std::vector<double> neighborhood_mean(const Positions& P, const Neighborhoods& R,
+                                      const std::vector<double>& value, double radius_sq) {
+  const std::size_t n = value.size();
+  std::vector<double> out(n);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::size_t i = 0; i < n; ++i) {
+    double sum = value[i];
+    std::size_t count = 1;
+    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
+      if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq) {
+        sum += value[*it];
+        ++count;
+      }
+    out[i] = sum / static_cast<double>(count);
+  }
+  return out;
+}
+
+}  // namespace
+
+LowerRaisedCellsResult lower_raised_cells(const Positions& P, const Positions& updated,
+                                          const Normals& normals,
+                                          const std::vector<std::uint8_t>& is_texture,
+                                          double lean, const Neighborhoods& R,
+                                          const LowerRaisedCellsParams& params) {
+  validate(params);
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  if (updated.rows() != P.rows() || normals.rows() != P.rows() || is_texture.size() != n ||
+      R.size() != n)
+    throw std::invalid_argument(
+        "lower_raised_cells: positions, normals, labels and neighborhoods differ in size");
+  LowerRaisedCellsResult out;
+  out.positions = updated;
+  if (!params.enabled || n == 0) return out;
+  std::size_t texture = 0;
+  for (const std::uint8_t x : is_texture) texture += x != 0;
+  if (!(lean <= -params.min_lean) ||
+      !(static_cast<double>(texture) > params.min_share * static_cast<double>(n)))
+    return out;
+  out.applied = true;
+  std::vector<double> t(n);
+  for (std::size_t i = 0; i < n; ++i) t[i] = (P.row(i) - updated.row(i)).dot(normals.row(i));
+  const double radius_sq = params.radius * params.radius;
+  const std::vector<double> a = neighborhood_quantile(P, R, t, radius_sq, params.low_quantile);
+  const std::vector<double> b = neighborhood_quantile(P, R, a, radius_sq, params.spread_quantile);
+  const std::vector<double> c = neighborhood_mean(P, R, b, radius_sq);
+  std::size_t lowered = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (c[i] < 0.0 && std::isfinite(c[i])) {
+      out.positions.row(i) += c[i] * normals.row(i);
+      ++lowered;
+    }
+  out.lowered = lowered;
+  return out;
+}
+
+}  // namespace detexture
