@@ -145,8 +145,9 @@ struct RemoveTextureParams {
   /// the output normals): where the relief leans engraved and more than
   /// counter_moves.engraved_share of the points are texture (scales packed
   /// edge to edge, whose gaps the update lifted to the cells' tops), each
-  /// point sinks by the quartile, over its neighbors within the solve
-  /// radius, of the lowest input (2%) below the output around them.
+  /// point sinks to the cells' feet: the lowest input (2%) below the output
+  /// around each neighbor within the solve radius, the 10% quantile of that
+  /// over the point's neighbors, then its mean over them.
   /// Measured (bench/quality_real_notes.md, session 31): see the header.
   /// min_lean, min_share and radius are filled here; enabled = false is
   /// the output on the cells' tops (before session 31).
