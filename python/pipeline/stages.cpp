@@ -1,7 +1,8 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), limit_counter_moves and limit_tip_moves
+// update_positions (Eqs. 9-10), limit_counter_moves, limit_tip_moves and
+// lower_raised_cells
 // (after the update), fit_normals_to_positions and keep_input_normals
 // (output normals). Keywords
 // come from each stage's Params struct (params.h); results are dicts of
@@ -19,6 +20,7 @@
 #include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/limit_counter_moves.h"
 #include "detexture/pipeline/limit_tip_moves.h"
+#include "detexture/pipeline/lower_raised_cells.h"
 #include "detexture/pipeline/update_positions.h"
 #include "module.h"
 #include "params.h"
@@ -355,6 +357,36 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("neighborhoods"),
       tip_doc.c_str());
+
+  static const std::string cells_doc = stage_doc<LowerRaisedCellsParams>(
+      m, "lower_raised_cells", "points, updated, normals, is_texture, lean, neighborhoods",
+      "positions, applied, lowered", "LowerRaisedCellsParams");
+  m.def(
+      "lower_raised_cells",
+      [](const py::object& points, const py::object& updated, const py::object& normals,
+         const py::object& is_texture, double lean, const Neighborhoods& R,
+         const py::kwargs& kwargs) {
+        const auto params =
+            params_from_kwargs<LowerRaisedCellsParams>(kwargs, "lower_raised_cells");
+        validate(params);
+        const auto [P, N] = points_and_normals(points, normals, R);
+        const Positions Q = to_matrix3(updated, "updated");
+        check_rows(P, Q, "updated");
+        const std::vector<std::uint8_t> t =
+            to_vector<std::uint8_t>(is_texture, "is_texture", static_cast<std::size_t>(P.rows()));
+        LowerRaisedCellsResult c;
+        {
+          py::gil_scoped_release release;
+          c = lower_raised_cells(P, Q, N, t, lean, R, params);
+        }
+        py::dict d;
+        d["positions"] = to_array(std::move(c.positions));
+        d["applied"] = c.applied;
+        d["lowered"] = c.lowered;
+        return d;
+      },
+      py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("is_texture"),
+      py::arg("lean"), py::arg("neighborhoods"), cells_doc.c_str());
 }
 
 }  // namespace detexture::python

@@ -468,6 +468,37 @@ def test_counter_moves_match_the_command_line(work):
         detexture.remove_texture(cloud, radius=0.1, counter_moves_released_min_lean=0.0)
 
 
+def test_raised_cells_match_the_command_line(work):
+    """Dense raised cells are lowered to their feet (lower_raised_cells.h):
+    on a sphere covered edge to edge in scales the output ends nearer the
+    sphere than on the cells' tops (raised_cells_enabled = False, or
+    --keep-cells-tops); the same from Python and from the command line,
+    whose --stats reports the count."""
+    d = detexture.default_parameters()
+    assert (d["raised_cells_enabled"], d["raised_cells_low_quantile"],
+            d["raised_cells_spread_quantile"]) == (True, 0.02, 0.1)
+    assert "raised_cells_radius" not in d and "raised_cells_min_lean" not in d
+    sphere = work / "sphere_scales.ply"
+    run_cli("synth", "--shape", "sphere", "--texture", "scales", "--layout", "dense",
+            "--size", "0.03", "--amplitude", "0.01", "-n", "20000",
+            "--ground-truth-points", "100", "--seed", "1", "-o", sphere)
+    cloud = detexture.read_point_cloud(sphere)
+    lowered = detexture.remove_texture(cloud, radius=0.045)
+    tops = detexture.remove_texture(cloud, radius=0.045, raised_cells_enabled=False)
+    assert lowered.report.raised_cells_lowered > 19000
+    assert tops.report.raised_cells_lowered == 0
+    off = lambda X: np.abs(np.linalg.norm(X, axis=1) - 0.5).mean()
+    assert off(lowered.positions) < 0.5 * off(tops.positions)
+    out, stats = work / "sphere_scales_lowered.ply", work / "sphere_scales_lowered.json"
+    run_cli(sphere, "-o", out, "-r", "0.045", "--stats", stats, "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, lowered.positions)
+    assert json.loads(stats.read_text())["raised_cells_lowered"] == \
+        lowered.report.raised_cells_lowered
+    out = work / "sphere_scales_tops.ply"
+    run_cli(sphere, "-o", out, "-r", "0.045", "--keep-cells-tops", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, tops.positions)
+
+
 def test_tip_moves_match_the_command_line(work):
     """The tops and bottoms of the relief do not end past their neighbors
     (limit_tip_moves.h): on a sphere with U grooves some groove floors are

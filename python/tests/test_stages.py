@@ -246,3 +246,28 @@ def test_limit_tip_moves_holds_the_tops_and_bottoms_of_relief():
     assert off["limited"] == 0 and np.array_equal(off["positions"], moved)
     with pytest.raises(ValueError, match="tip-slack"):
         detexture.limit_tip_moves(P, moved, N, R, radius=1.5, lambda_=0.1, slack=-1.0)
+
+
+def test_lower_raised_cells_sinks_the_tops_to_the_gaps():
+    # A 21 x 21 grid of spacing 1, every third row and column a gap at z = 0
+    # and the cells at 0.3; the update left every point at 0.3, normals +z.
+    # Read as dense raised cells (lean -0.8, 5 of 9 points texture), every
+    # point sinks to 0, the gaps' level; leaning raised, nothing moves.
+    g = np.arange(21.0)
+    x, y = (a.ravel() for a in np.meshgrid(g, g, indexing="xy"))
+    gap = (x % 3 == 0) | (y % 3 == 0)
+    P = np.column_stack([x, y, np.where(gap, 0.0, 0.3)])
+    tops = np.column_stack([x, y, np.full(len(x), 0.3)])
+    N = np.tile([0.0, 0.0, 1.0], (len(x), 1))
+    texture = np.arange(len(x)) % 9 < 5
+    R = detexture.radius_neighborhoods(P, 2.5)
+    c = detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5)
+    assert c["applied"] and c["lowered"] == len(x)
+    assert np.allclose(c["positions"][:, 2], 0.0, rtol=0, atol=1e-15)
+    assert np.array_equal(c["positions"][:, :2], tops[:, :2])
+    raised = detexture.lower_raised_cells(P, tops, N, texture, 0.8, R, radius=2.5)
+    assert not raised["applied"] and np.array_equal(raised["positions"], tops)
+    off = detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5, enabled=False)
+    assert off["lowered"] == 0 and np.array_equal(off["positions"], tops)
+    with pytest.raises(ValueError, match="cells-low-quantile"):
+        detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5, low_quantile=2.0)
