@@ -580,7 +580,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     }
   }
   result.normals = std::move(filtered);
-  {
+  if (params.raised_cells.enabled) {
+    StageClock clock(observer, rep, "lower raised cells");
     LowerRaisedCellsParams lp = params.raised_cells;
     lp.min_lean = params.counter_moves.engraved_min_lean;
     lp.min_share = params.counter_moves.engraved_share;
