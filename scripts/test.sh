@@ -33,12 +33,13 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 # against 236 s, 2 jobs). DETEXTURE_TESTS_UBSAN=OFF compiles the tests' own
 # code without UBSan (the library and the CLI keep it; why and the build's
 # figures in tests/CMakeLists.txt): the suite ran in 279 s instead of 311 s
-# (session 30, side by side, 2 jobs).
+# (session 30, side by side, 2 jobs). DETEXTURE_CLI_UNOPTIMIZED=ON compiles the
+# command line's own sources at -O0 (CMakeLists.txt; session 32).
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DDETEXTURE_FUZZ_SMOKE=OFF \
-  -DDETEXTURE_BUILD_PYTHON=OFF -DDETEXTURE_TESTS_UBSAN=OFF >/dev/null
+  -DDETEXTURE_BUILD_PYTHON=OFF -DDETEXTURE_TESTS_UBSAN=OFF -DDETEXTURE_CLI_UNOPTIMIZED=ON >/dev/null
 cmake --build build-asan -j "$(nproc)"
 echo "test.sh: sanitizer build took $(( $(date +%s) - start )) s"
 start=$(date +%s)
