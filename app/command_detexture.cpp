@@ -621,7 +621,12 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--keep-input-still-move", params.keep_input.still_move,
                  "Output normals: the move, a multiple of λ, under which the surface counts as "
-                 "stayed for --keep-input-still-angle")
+                 "stayed for --keep-input-still-angle (1 before session 32)")
+      ->capture_default_str();
+  app.add_option("--keep-input-still-move-engraved", params.keep_input.still_move_engraved,
+                 "Output normals: --keep-input-still-move where the relief reads as sparse "
+                 "engraving (see --counter-move-engraved-lean): flat groove walls move as "
+                 "little as facets")
       ->capture_default_str();
   app.add_option("--keep-input-still-uniform", params.keep_input.still_uniform_deg,
                  "Output normals: the angle (degrees) within which the nearest neighbors' input "

@@ -332,6 +332,10 @@ DETEXTURE_VARIANTS = [
      "the output left on the tops of dense raised cells (scales packed edge to edge), whose "
      "gaps the update lifted, instead of lowered to the cells' feet (lower_raised_cells.h; "
      "the default before session 31)"),
+    ("still-move-1", ["--keep-input-still-move", "1"],
+     "an exact input normal is kept where the surface stayed only if nothing within 0.5 r "
+     "moved by more than λ, not 3 λ, on every relief (keep_input_normals.h; the default "
+     "before session 32, which keeps λ only where the relief reads as sparse engraving)"),
     ("fitted-normals", ["--output-normals", "fitted"],
      "output normals fitted to the output positions everywhere, without the blend "
      "(fit_normals_to_positions.h; an option)"),

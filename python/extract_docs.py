@@ -73,7 +73,7 @@ def parse(path, docs, members):
 
 
 FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface_normals",
-                     "keep_input.radius", "keep_input.lambda", "counter_moves.height",
+                     "keep_input.radius", "keep_input.lambda", "keep_input.engraved", "counter_moves.height",
                      "tips.radius", "tips.lambda", "raised_cells.min_lean",
                      "raised_cells.min_share", "raised_cells.radius"}
 # Parameter structs whose members become Python keywords: remove_texture's,

@@ -228,7 +228,9 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   };
   KeepInputNormalsParams p = params_at(0.25, lambda);
   ASSERT_EQ(p.still_angle_deg, 20.0);
-  ASSERT_EQ(p.still_move, 1.0);
+  ASSERT_EQ(p.still_move, 3.0);
+  ASSERT_EQ(p.still_move_engraved, 1.0);
+  ASSERT_FALSE(p.engraved);
   ASSERT_EQ(p.still_uniform_deg, 1.0);
   ASSERT_EQ(p.still_reach, 0.5);
   const KeepInputNormalsResult r = run(0.5 * lambda, given, p);
@@ -242,10 +244,18 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
   EXPECT_EQ(taken_x(by_cone), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
   EXPECT_EQ(by_cone.still, 4u * side);
   // Moved farther than μ λ: only the 4° test.
-  EXPECT_EQ(taken_x(run(1.5 * lambda, given, p)), (std::vector<int>{-2, -1, 0, 1, 2}));
+  EXPECT_EQ(taken_x(run(3.5 * lambda, given, p)), (std::vector<int>{-2, -1, 0, 1, 2}));
+  EXPECT_EQ(run(1.5 * lambda, given, p).still, 8u * side);
   KeepInputNormalsParams loose = p;
-  loose.still_move = 2.0;
-  EXPECT_EQ(run(1.5 * lambda, given, loose).still, 8u * side);
+  loose.still_move = 4.0;
+  EXPECT_EQ(run(3.5 * lambda, given, loose).still, 8u * side);
+  // Where the relief reads as sparse engraving, μ is still_move_engraved.
+  KeepInputNormalsParams engraved = p;
+  engraved.engraved = true;
+  EXPECT_EQ(taken_x(run(1.5 * lambda, given, engraved)), (std::vector<int>{-2, -1, 0, 1, 2}));
+  EXPECT_EQ(run(0.5 * lambda, given, engraved).still, 8u * side);
+  engraved.still_move_engraved = 2.0;
+  EXPECT_EQ(run(1.5 * lambda, given, engraved).still, 8u * side);
   KeepInputNormalsParams off = p;
   off.still_angle_deg = 0.0;
   EXPECT_EQ(taken_x(run(0.5 * lambda, given, off)), (std::vector<int>{-2, -1, 0, 1, 2}));
@@ -314,7 +324,7 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   // 24 nearest lie within the grid (2-18), columns 0 and 0.1.
   EXPECT_EQ(r.facets, r.exact - r_off.exact);
   EXPECT_GE(r.facets, 2u * 17u);
-  EXPECT_EQ(taken_x(run(1.5 * lambda, given, p), given), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+  EXPECT_EQ(taken_x(run(3.5 * lambda, given, p), given), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
   // B's input normals 2° from A's instead of 20°: to a point at the fold
   // they turn gradually, not across an edge.
   Normals gradual = given;
@@ -489,7 +499,8 @@ TEST(KeepInputNormals, TheReachTurnsAwayAWallOnACurvedBase) {
 }
 
 // The facet's move: the fold above, where B's points from x = 0.2 on moved
-// by 1.5 λ (relief beside the facets, taken down) and the rest by 0.5 λ.
+// by 3.5 λ, past μ λ = 3 λ (relief beside the facets, taken down), and the
+// rest by 0.5 λ.
 // A's column x = 0 has B's x = 0.2 within ρ (0.21 away), so the largest
 // move there exceeds μ λ; none of its facet within ρ (A's points, 1° or
 // less from its normal) moved by as much, so its input normal is taken, as
@@ -507,7 +518,7 @@ TEST(KeepInputNormals, AFacetBesideReliefThatMovedStayed) {
   const Normals& given = grid.given;
   const Normals& output = grid.output;
   Positions updated = P;
-  for (int i = 0; i < P.rows(); ++i) updated(i, 1) += (P(i, 0) > 0.15 ? 1.5 : 0.5) * lambda;
+  for (int i = 0; i < P.rows(); ++i) updated(i, 1) += (P(i, 0) > 0.15 ? 3.5 : 0.5) * lambda;
   KeepInputNormalsParams p = params_at(0.25, lambda);
   ASSERT_TRUE(p.still_facet_move);
   const auto taken_x = [&](const KeepInputNormalsParams& q) {
@@ -558,6 +569,9 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   p.still_move = -0.5;
   EXPECT_THROW(validate(p), std::invalid_argument);
   p.still_move = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p = params_at(0.2, 0.01);
+  p.still_move_engraved = -0.5;
   EXPECT_THROW(validate(p), std::invalid_argument);
   p = params_at(0.2, 0.01);
   p.still_uniform_deg = 90.0;

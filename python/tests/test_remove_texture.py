@@ -355,7 +355,8 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert (d["keep_input_exact_angle_deg"], d["keep_input_exact_residual"],
             d["keep_input_exact_neighbors"]) == (4.0, 0.05, 8)
     assert (d["keep_input_still_angle_deg"], d["keep_input_still_move"],
-            d["keep_input_still_uniform_deg"]) == (20.0, 1.0, 1.0)
+            d["keep_input_still_uniform_deg"]) == (20.0, 3.0, 1.0)
+    assert d["keep_input_still_move_engraved"] == 1.0 and "keep_input_engraved" not in d
     assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
             d["keep_input_facet_jump"], d["keep_input_facet_transitional"],
             d["keep_input_facet_members"]) == (24, 0.1, 3.0, 2, 4)
@@ -398,6 +399,34 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         keep_input_still_reach=0.0, keep_input_still_facet_move=False)
     with pytest.raises(ValueError, match="still-reach"):
         detexture.remove_texture(cloud, radius=0.09, keep_input_still_reach=1.0)
+
+
+def test_still_move_reads_the_relief_side(work):
+    """Where the relief reads as sparse engraving (V grooves on a pyramid:
+    lean -1, grooves a small share of the cloud), the move under which the
+    surface counts as stayed is keep_input_still_move_engraved (1 λ), not
+    keep_input_still_move (3 λ): changing the latter changes nothing there,
+    raising the former keeps more input normals (the groove walls), the same
+    from Python and from the command line, positions unchanged."""
+    pyramid = work / "pyramid_vgrooves.ply"
+    run_cli("synth", "--shape", "pyramid", "--texture", "v-grooves", "--layout", "sparse",
+            "--size", "0.03", "--amplitude", "0.01", "-n", "20000", "--ground-truth-points",
+            "100", "--seed", "1", "-o", pyramid)
+    cloud = detexture.read_point_cloud(pyramid)
+    base = detexture.remove_texture(cloud, radius=0.045)
+    assert base.report.relief_lean <= -0.5
+    assert base.report.texture_points < 0.5 * len(cloud.positions)
+    one = detexture.remove_texture(cloud, radius=0.045, keep_input_still_move=1.0)
+    assert np.array_equal(one.normals, base.normals)
+    walls = detexture.remove_texture(cloud, radius=0.045, keep_input_still_move_engraved=3.0)
+    assert np.array_equal(walls.positions, base.positions)
+    assert walls.report.input_normals_kept > base.report.input_normals_kept
+    out = work / "pyramid_vgrooves_walls.ply"
+    run_cli(pyramid, "-o", out, "-r", "0.045", "--keep-input-still-move-engraved", "3", "-q",
+            "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).normals, walls.normals)
+    with pytest.raises(ValueError, match="still-move-engraved"):
+        detexture.remove_texture(cloud, radius=0.045, keep_input_still_move_engraved=-1.0)
 
 
 def test_texture_facets_match_the_command_line(work):

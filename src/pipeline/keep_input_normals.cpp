@@ -44,6 +44,11 @@ void validate(const KeepInputNormalsParams& p) {
         "the move under which the surface counts as stayed (--keep-input-still-move) must be "
         ">= 0, got " +
         number_text(p.still_move));
+  if (!(p.still_move_engraved >= 0.0) || !std::isfinite(p.still_move_engraved))
+    throw std::invalid_argument(
+        "the move under which the surface counts as stayed where the relief is engraved "
+        "(--keep-input-still-move-engraved) must be >= 0, got " +
+        number_text(p.still_move_engraved));
   if (!(p.still_uniform_deg >= 0.0 && p.still_uniform_deg < 90.0))
     throw std::invalid_argument(
         "the angle within which the neighbors' input normals must agree "
@@ -107,7 +112,8 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   const double min_cos = std::cos(params.exact_angle_deg * M_PI / 180.0);
   const double max_residual = params.exact_residual * params.lambda;
   const double still_cos = std::cos(params.still_angle_deg * M_PI / 180.0);
-  const double still_move = params.still_move * params.lambda;
+  const double still_move =
+      (params.engraved ? params.still_move_engraved : params.still_move) * params.lambda;
   const double uniform_cos = std::cos(params.still_uniform_deg * M_PI / 180.0);
   // m_i is read up to the larger of the two bounds it is compared with.
   const double move_bound = std::max(by_move ? high : 0.0, by_stillness ? still_move : 0.0);

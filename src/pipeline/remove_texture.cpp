@@ -473,6 +473,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   LimitTipMovesParams tp = params.tips;
   tp.radius = up.solve_radius;
   tp.lambda = rep.lambda;
+  int relief_side = 0;  // the last pass's limit_counter_moves side, for keep_input_normals
   // released: the points whose anchors the waves pass lowered (empty on the
   // first pass), for limit_counter_moves.
   const auto keep_update = [&](UpdatePositionsResult&& u,
@@ -484,6 +485,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     LimitCounterMovesResult c =
         limit_counter_moves(P, u.positions, filtered, result.is_texture, cp, released);
     rep.relief_lean = c.lean;
+    relief_side = c.side;
     rep.counter_moves_limited = c.limited;
     LimitTipMovesResult t = limit_tip_moves(P, c.positions, result.input_normals, R, tp);
     rep.tip_moves_limited = t.limited;
@@ -573,6 +575,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       KeepInputNormalsParams kp = params.keep_input;
       kp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
       kp.lambda = rep.lambda;
+      kp.engraved = relief_side < 0;
       KeepInputNormalsResult k = keep_input_normals(P, result.positions, result.input_normals,
                                                     filtered, result.is_texture, R, kp);
       rep.input_normals_kept = k.kept;
