@@ -137,7 +137,8 @@ PointCloud read_off(std::string_view bytes, const std::string& path, ReadReport&
     if (!parse_count(tokens[0], &corners) || corners < 3)
       lines.fail("face " + std::to_string(f) + " starts with " + quoted(tokens[0]) +
                  "; expected its number of corners, at least 3");
-    if (tokens.size() < corners + 1)
+    // corners >= size, not size < corners + 1: a count of 2^64 - 1 wraps.
+    if (corners >= tokens.size())
       lines.fail("face " + std::to_string(f) + " declares " + std::to_string(corners) +
                  " corners, but only " + std::to_string(tokens.size() - 1) + " values follow");
     polygon.clear();
