@@ -227,6 +227,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
       r.counter_moves_limited);
   add("  \"tip_moves_limited\": %zu,\n", r.tip_moves_limited);
   add("  \"raised_cells_lowered\": %zu,\n", r.raised_cells_lowered);
+  add("  \"raised_cells_limited\": %zu,\n", r.raised_cells_limited);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
@@ -438,6 +439,10 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--cells-spread-quantile", params.raised_cells.spread_quantile,
                  "Dense raised cells: the quantile of the neighbors' feet a point sinks to")
+      ->capture_default_str();
+  app.add_option("--cells-max-depth", params.raised_cells.max_depth,
+                 "Dense raised cells: the deepest a point may end below its own input, along "
+                 "its normal, in units of the texture height; 0 turns the limit off")
       ->capture_default_str();
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
@@ -1011,6 +1016,9 @@ int run_detexture(int argc, char** argv) {
         std::fprintf(stderr,
                      "  dense raised cells (lean %.2f): %zu points lowered to the cells' feet\n",
                      r.relief_lean, r.raised_cells_lowered);
+      if (r.raised_cells_limited > 0)
+        std::fprintf(stderr, "  held within the depth limit %g below their inputs: %zu points\n",
+                     params.raised_cells.max_depth * r.texture_height, r.raised_cells_limited);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());

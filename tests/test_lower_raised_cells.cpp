@@ -47,6 +47,7 @@ Cells cells() {
 LowerRaisedCellsParams params() {
   LowerRaisedCellsParams p;
   p.radius = 2.5;
+  p.height = kHeight;
   return p;
 }
 
@@ -118,6 +119,59 @@ TEST(LowerRaisedCells, ACurvedSurfaceAddsNoSag) {
   for (int i = 0; i < n; ++i) EXPECT_NEAR(r.positions.row(i).norm(), 1.0, 1e-12) << i;
 }
 
+// The depth limit (max_depth d, height h): every cell's output sits on its
+// input (t = 0) and sinks by the full c = -h to the feet at z = 0, within the
+// default d h below it, so the limit holds nothing back. At d = 0.5 each cell
+// stops at -h/2, half a height below its input; a gap's input lies h below
+// its output (t = -h), so it may sink 1.5 h and reaches the feet. d = 0 or
+// h = 0 turns the limit off.
+TEST(LowerRaisedCells, NoPointEndsMoreThanTheDepthLimitBelowItsInput) {
+  const Cells c = cells();
+  const LowerRaisedCellsResult full =
+      lower_raised_cells(c.P, c.updated, c.N, c.is_texture, -0.8, c.R, params());
+  EXPECT_EQ(full.limited, 0u);
+  LowerRaisedCellsParams half = params();
+  half.max_depth = 0.5;
+  const LowerRaisedCellsResult r =
+      lower_raised_cells(c.P, c.updated, c.N, c.is_texture, -0.8, c.R, half);
+  std::size_t cells_count = 0;
+  for (int i = 0; i < 441; ++i) {
+    const bool gap = (i % 21) % 3 == 0 || (i / 21) % 3 == 0;
+    cells_count += !gap;
+    EXPECT_NEAR(r.positions(i, 2), gap ? 0.0 : 0.5 * kHeight, 1e-15) << i;
+  }
+  EXPECT_EQ(r.limited, cells_count);
+  EXPECT_EQ(r.lowered, 441u);
+  for (const double d : {0.0, 0.5}) {
+    LowerRaisedCellsParams off = params();
+    off.max_depth = d;
+    off.height = d == 0.0 ? kHeight : 0.0;
+    const LowerRaisedCellsResult o =
+        lower_raised_cells(c.P, c.updated, c.N, c.is_texture, -0.8, c.R, off);
+    EXPECT_EQ(o.limited, 0u) << d;
+    for (int i = 0; i < 441; ++i) EXPECT_NEAR(o.positions(i, 2), 0.0, 1e-15) << i;
+  }
+}
+
+// A point the update already carried down past its input (t > 0: its input
+// lies above its output) sinks at most d h - t more; once t >= d h it stays.
+TEST(LowerRaisedCells, APointAlreadyBelowItsInputSinksOnlyToTheLimit) {
+  Cells c = cells();
+  const int deep = 10 * 21 + 10, low = 10 * 21 + 11;  // two cells, not gaps
+  c.updated(deep, 2) = -0.05;                          // t = h + 0.05 >= d h: stays
+  c.updated(low, 2) = 0.2;                             // t = 0.1: sinks 0.2 more, to 0
+  LowerRaisedCellsParams p = params();
+  p.max_depth = 1.0;
+  const LowerRaisedCellsResult r =
+      lower_raised_cells(c.P, c.updated, c.N, c.is_texture, -0.8, c.R, p);
+  EXPECT_EQ(r.positions(deep, 2), -0.05);
+  EXPECT_NEAR(r.positions(low, 2), 0.0, 1e-15);
+  p.max_depth = 0.0;  // without the limit, the mean of the feet around it
+  const LowerRaisedCellsResult unlimited =
+      lower_raised_cells(c.P, c.updated, c.N, c.is_texture, -0.8, c.R, p);
+  EXPECT_LT(unlimited.positions(deep, 2), -0.05 - 0.5 * kHeight);
+}
+
 TEST(LowerRaisedCells, RejectsBadParametersAndSizes) {
   const Cells c = cells();
   auto run = [&](const LowerRaisedCellsParams& p) {
@@ -137,6 +191,12 @@ TEST(LowerRaisedCells, RejectsBadParametersAndSizes) {
   EXPECT_THROW(run(p), std::invalid_argument);
   p = params();
   p.min_share = std::nan("");
+  EXPECT_THROW(run(p), std::invalid_argument);
+  p = params();
+  p.max_depth = -1.0;
+  EXPECT_THROW(run(p), std::invalid_argument);
+  p = params();
+  p.height = std::nan("");
   EXPECT_THROW(run(p), std::invalid_argument);
   const std::vector<std::uint8_t> short_labels(10, 1);
   EXPECT_THROW(lower_raised_cells(c.P, c.updated, c.N, short_labels, -0.8, c.R, params()),

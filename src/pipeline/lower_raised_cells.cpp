@@ -23,6 +23,14 @@ void validate(const LowerRaisedCellsParams& p) {
   if (!(p.min_share >= 0.0 && p.min_share <= 1.0))
     throw std::invalid_argument("lower_raised_cells: the share must lie in [0, 1], got " +
                                 number_text(p.min_share));
+  if (!(p.max_depth >= 0.0) || !std::isfinite(p.max_depth))
+    throw std::invalid_argument(
+        "the deepest sink below the input (--cells-max-depth) must be a finite number >= 0, "
+        "got " +
+        number_text(p.max_depth));
+  if (!(p.height >= 0.0) || !std::isfinite(p.height))
+    throw std::invalid_argument("lower_raised_cells: the texture height must be >= 0, got " +
+                                number_text(p.height));
   if (!(p.radius > 0.0) || !std::isfinite(p.radius))
     throw std::invalid_argument("lower_raised_cells: the radius must be positive, got " +
                                 number_text(p.radius));
@@ -108,13 +116,21 @@ LowerRaisedCellsResult lower_raised_cells(const Positions& P, const Positions& u
   const std::vector<double> a = neighborhood_quantile(P, R, t, radius_sq, params.low_quantile);
   const std::vector<double> b = neighborhood_quantile(P, R, a, radius_sq, params.spread_quantile);
   const std::vector<double> c = neighborhood_mean(P, R, b, radius_sq);
-  std::size_t lowered = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (c[i] < 0.0 && std::isfinite(c[i])) {
-      out.positions.row(i) += c[i] * normals.row(i);
-      ++lowered;
+  const double depth = params.max_depth * params.height;
+  std::size_t lowered = 0, limited = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double sink = c[i];
+    if (!(sink < 0.0) || !std::isfinite(sink)) continue;
+    if (depth > 0.0 && sink < t[i] - depth) {
+      sink = t[i] - depth;
+      ++limited;
+      if (!(sink < 0.0)) continue;
     }
+    out.positions.row(i) += sink * normals.row(i);
+    ++lowered;
+  }
   out.lowered = lowered;
+  out.limited = limited;
   return out;
 }
 

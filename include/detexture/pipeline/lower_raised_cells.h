@@ -7,11 +7,13 @@
 //   a_i = Q_q1 { t_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
 //   b_i = Q_q2 { a_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
 //   c_i = mean { b_j : j ∈ R_i ∪ {i}, |p_j - p_i| <= ρ }
-//   p''_i = p'_i + min(c_i, 0) n_i
+//   p''_i = p'_i + min(max(c_i, t_i - d h), 0) n_i
 //
 // where p are the input positions, p' the updated ones, n the output normals,
 // Q_q the q-quantile (the lower one, no interpolation), q1 = low_quantile
-// and q2 = spread_quantile. a_i reads the lowest input around i from the
+// and q2 = spread_quantile, h the texture height and d = max_depth: no
+// point ends more than d h below its own input along its normal, since
+// relief h high cannot explain a deeper move (d = 0 or h = 0: no limit). a_i reads the lowest input around i from the
 // output surface, each input point from its own output point, so a curved
 // underlying surface adds no sag; b_i spreads it over ρ and lets no single
 // stray point decide; c_i smooths it, so that the lowering adds no relief of
@@ -27,6 +29,16 @@
 // split the engraved-leaning relief between them: sparse, it is engraved
 // (limited there); dense, it is raised cells (lowered here). The positions
 // only move; the normals stay as they are (the move is smooth over ρ).
+//
+// Why the depth limit (session 34): c_i is a mean over ρ, and where the
+// update had already carried a point down from a cell's top to the feet or
+// past them (a concave junction, its output normal 30-80° off the true
+// one), the full c_i sank it a further 0.0065-0.007, more than the scales'
+// 0.005 height: on synth's sydney with dense scales, the 25 points over
+// 1.25 × the input's Dmax were all such points, 2 × max_move from their
+// inputs. Such a point's own t_i is positive (its input above its output),
+// so the limit t_i - d h lets it sink little or not at all, while a point
+// on a top whose input was in a gap (t_i = -h) may still sink by h.
 //
 // Why: on scales packed edge to edge (synth's dense scales, 46-84% of the
 // points labelled texture on the models measured), Eq. 2's planes and
@@ -75,12 +87,26 @@ struct LowerRaisedCellsParams {
   /// ρ, the radius both quantiles are read within, in the cloud's units; >
   /// 0. RemoveTextureParams fills it with the solve radius (0.5 r).
   double radius = 0.0;
+  /// d: the deepest a point may end below its own input along its normal,
+  /// in units of the texture height h; >= 0, 0 turns the limit off (before
+  /// session 34). 1.25, as --move-limit: h is Eq. 2's 99th percentile, 0.76-
+  /// 0.95 of the relief's true height on the spot check's dense scales, and
+  /// at d = 1 the limit held back a third of the points short of the feet
+  /// (residual texture up to 32% above no limit on its rod and torus); at
+  /// 1.25 it was at or below no limit on all 15 dense scales, at 1.5 above
+  /// it on 4 (session 34, bench/quality_real_notes.md).
+  double max_depth = 1.25;
+  /// h, the texture height in the cloud's units; >= 0, 0 turns the limit
+  /// off. RemoveTextureParams fills it with the 99th percentile of Eq. 2's
+  /// heights over the texture points (RemoveTextureReport::texture_height).
+  double height = 0.0;
 };
 
 struct LowerRaisedCellsResult {
   Positions positions;      ///< #P by 3
   bool applied = false;     ///< the relief was read as dense raised cells
-  std::size_t lowered = 0;  ///< points moved (c_i < 0)
+  std::size_t lowered = 0;  ///< points moved (c_i < 0 and t_i - d h < 0)
+  std::size_t limited = 0;  ///< points the depth limit held above c_i
 };
 
 void validate(const LowerRaisedCellsParams& params);

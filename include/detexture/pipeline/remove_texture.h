@@ -408,6 +408,10 @@ struct RemoveTextureReport {
   /// Points lowered to the feet of dense raised cells (lower_raised_cells.h;
   /// 0 where the relief was not read as such); tiled runs sum it.
   std::size_t raised_cells_lowered = 0;
+  /// Of those, or of the points it left in place, the ones the depth limit
+  /// held above the cells' feet (LowerRaisedCellsParams::max_depth); tiled
+  /// runs sum it.
+  std::size_t raised_cells_limited = 0;
   /// Output normals not fitted to the positions (fit_normals_to_positions.h):
   /// these keep the filtered normal.
   std::size_t normals_not_fitted = 0;
