@@ -444,6 +444,11 @@ int run_detexture(int argc, char** argv) {
                  "Dense raised cells: the deepest a point may end below its own input, along "
                  "its normal, in units of the texture height; 0 turns the limit off")
       ->capture_default_str();
+  app.add_option("--cells-max-turn", params.raised_cells.max_turn_deg,
+                 "Dense raised cells: a point whose output normal turned more than this many "
+                 "degrees from the mean of its neighbors' sinks along that mean; 180 turns the "
+                 "test off")
+      ->capture_default_str();
   app.add_flag("!--sheet-any-pair", params.sheets.back_to_back_only,
                "Leave out every neighbor past --sheet-angle, not only those back to back "
                "with the point (across a thin part)");

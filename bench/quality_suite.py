@@ -332,10 +332,13 @@ DETEXTURE_VARIANTS = [
      "the output left on the tops of dense raised cells (scales packed edge to edge), whose "
      "gaps the update lifted, instead of lowered to the cells' feet (lower_raised_cells.h; "
      "the default before session 31)"),
-    ("cells-any-depth", ["--cells-max-depth", "0"],
+    ("cells-unlimited", ["--cells-max-depth", "0", "--cells-max-turn", "180"],
      "dense raised cells lowered by the whole spread of their feet, even where that takes a "
-     "point more than the texture height below its own input (lower_raised_cells.h; the "
-     "default before session 34)"),
+     "point more than 1.25 texture heights below its own input or along an output normal "
+     "turned against its input normal (lower_raised_cells.h; the default before session 34)"),
+    ("cells-any-turn", ["--cells-max-turn", "180"],
+     "dense raised cells: points whose output normal turned against their input normal sink "
+     "too, along that normal (lower_raised_cells.h; the default before session 34)"),
     ("still-move-1", ["--keep-input-still-move", "1"],
      "an exact input normal is kept where the surface stayed only if nothing within 0.5 r "
      "moved by more than λ, not 3 λ, on every relief (keep_input_normals.h; the default "

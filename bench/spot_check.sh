@@ -30,6 +30,10 @@
 # --peers: then also run the five tuned peers on the 30 cases and rank
 # detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
 # cores the first time, then cached).
+#
+# SPOT_FLAGS (environment): more detexture options for every rule run, so
+# that an option's old behaviour can be checked side by side, e.g.
+# SPOT_FLAGS='--cells-max-depth 0' bench/spot_check.sh --broad build-prof /tmp/old
 set -euo pipefail
 peers=0
 broad=0
@@ -60,7 +64,7 @@ for c in "${cases[@]}"; do
     --size "$size" --amplitude "$amplitude" --points 100000 --ground-truth-points 200000 \
     --seed 1 -o "$stem.in.ply" --ground-truth "$stem.gt.ply" >"$stem.synth.log" 2>&1
   r=$(/usr/bin/python3 -c "print(1.5 * $size)")
-  "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q
+  "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q ${SPOT_FLAGS:-}
   "$build/detexture" "$stem.in.ply" -o "$stem.auto.ply" -f -q
   "$build/detexture" "$stem.in.ply" -o "$stem.estimated.ply" -r "$r" --sigma-s "$r" -f -q \
     --ignore-normals
@@ -98,7 +102,7 @@ check_case() {
     --size "$size" --amplitude "$amplitude" --points 100000 --ground-truth-points 200000 \
     --seed 1 -o "$stem.in.ply" --ground-truth "$stem.gt.ply" >"$stem.synth.log" 2>&1
   r=$(/usr/bin/python3 -c "print(1.5 * $size)")
-  "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q
+  "$build/detexture" "$stem.in.ply" -o "$stem.rule.ply" -r "$r" --sigma-s "$r" -f -q ${SPOT_FLAGS:-}
   "$build/detexture" compare --json "$stem.in.ply" "$stem.gt.ply" >"$stem.in.json"
   "$build/detexture" compare --json "$stem.rule.ply" "$stem.gt.ply" >"$stem.rule.json"
   /usr/bin/python3 - "$stem" "$name" "$flags" <<'PY'

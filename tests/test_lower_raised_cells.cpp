@@ -172,6 +172,32 @@ TEST(LowerRaisedCells, APointAlreadyBelowItsInputSinksOnlyToTheLimit) {
   EXPECT_LT(unlimited.positions(deep, 2), -0.05 - 0.5 * kHeight);
 }
 
+// The turn test: a cell whose output normal points down (-z), against its
+// neighbors' (+z), sinks along their mean, to the feet at z = 0, and counts
+// as turned; along its own normal it would have risen to 2 h. One whose
+// normal is 80° off (within max_turn_deg = 90) sinks along its own normal.
+TEST(LowerRaisedCells, APointWhoseNormalTurnedOverSinksAlongItsNeighbors) {
+  const Cells c = cells();
+  const int against = 10 * 21 + 10, tilted = 4 * 21 + 4;  // two cells, not gaps, apart
+  Normals N = c.N;
+  N.row(against) << 0.0, 0.0, -1.0;
+  const double a = 80.0 * M_PI / 180.0;
+  N.row(tilted) << std::sin(a), 0.0, std::cos(a);
+  const LowerRaisedCellsResult r =
+      lower_raised_cells(c.P, c.updated, N, c.is_texture, -0.8, c.R, params());
+  EXPECT_NEAR(r.positions(against, 2), 0.0, 1e-15);
+  EXPECT_EQ(r.turned, 1u);
+  EXPECT_EQ(r.lowered, 441u);
+  const Eigen::RowVector3d along = c.updated.row(tilted) - kHeight * N.row(tilted);
+  EXPECT_NEAR((r.positions.row(tilted) - along).norm(), 0.0, 1e-15);
+  LowerRaisedCellsParams off = params();
+  off.max_turn_deg = 180.0;
+  const LowerRaisedCellsResult o =
+      lower_raised_cells(c.P, c.updated, N, c.is_texture, -0.8, c.R, off);
+  EXPECT_NEAR(o.positions(against, 2), 2.0 * kHeight, 1e-15);
+  EXPECT_EQ(o.turned, 0u);
+}
+
 TEST(LowerRaisedCells, RejectsBadParametersAndSizes) {
   const Cells c = cells();
   auto run = [&](const LowerRaisedCellsParams& p) {
@@ -195,6 +221,14 @@ TEST(LowerRaisedCells, RejectsBadParametersAndSizes) {
   p = params();
   p.max_depth = -1.0;
   EXPECT_THROW(run(p), std::invalid_argument);
+  p = params();
+  p.max_turn_deg = 0.0;
+  EXPECT_THROW(run(p), std::invalid_argument);
+  p.max_turn_deg = 181.0;
+  EXPECT_THROW(run(p), std::invalid_argument);
+  const Normals short_normals = Normals::Zero(10, 3);
+  EXPECT_THROW(lower_raised_cells(c.P, c.updated, short_normals, c.is_texture, -0.8, c.R, params()),
+               std::invalid_argument);
   p = params();
   p.height = std::nan("");
   EXPECT_THROW(run(p), std::invalid_argument);

@@ -359,8 +359,9 @@ void bind_stages(py::module_& m) {
       tip_doc.c_str());
 
   static const std::string cells_doc = stage_doc<LowerRaisedCellsParams>(
-      m, "lower_raised_cells", "points, updated, normals, is_texture, lean, neighborhoods",
-      "positions, applied, lowered", "LowerRaisedCellsParams");
+      m, "lower_raised_cells",
+      "points, updated, normals, is_texture, lean, neighborhoods",
+      "positions, applied, lowered, limited, turned", "LowerRaisedCellsParams");
   m.def(
       "lower_raised_cells",
       [](const py::object& points, const py::object& updated, const py::object& normals,
@@ -383,6 +384,8 @@ void bind_stages(py::module_& m) {
         d["positions"] = to_array(std::move(c.positions));
         d["applied"] = c.applied;
         d["lowered"] = c.lowered;
+        d["limited"] = c.limited;
+        d["turned"] = c.turned;
         return d;
       },
       py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("is_texture"),

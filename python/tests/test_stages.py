@@ -271,3 +271,21 @@ def test_lower_raised_cells_sinks_the_tops_to_the_gaps():
     assert off["lowered"] == 0 and np.array_equal(off["positions"], tops)
     with pytest.raises(ValueError, match="cells-low-quantile"):
         detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5, low_quantile=2.0)
+    # With the texture height (0.3) the depth limit, 1.25 of it below each
+    # input, holds nothing back; at max_depth 0.5 the cells stop halfway.
+    # A cell whose output normal points down, against its neighbors', sinks
+    # along their mean to the feet; along its own it would rise to 0.6.
+    turned = np.flatnonzero(~gap)[0]
+    flipped = N.copy()
+    flipped[turned] = [0.0, 0.0, -1.0]
+    h = detexture.lower_raised_cells(P, tops, flipped, texture, -0.8, R, radius=2.5, height=0.3)
+    assert h["turned"] == 1 and h["limited"] == 0
+    assert np.allclose(h["positions"][:, 2], 0.0, rtol=0, atol=1e-15)
+    up = detexture.lower_raised_cells(P, tops, flipped, texture, -0.8, R, radius=2.5, height=0.3,
+                                      max_turn_deg=180.0)
+    assert up["turned"] == 0 and abs(up["positions"][turned, 2] - 0.6) < 1e-15
+    half = detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5, height=0.3,
+                                        max_depth=0.5)
+    assert np.allclose(half["positions"][:, 2], np.where(gap, 0.0, 0.15), rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match="cells-max-turn"):
+        detexture.lower_raised_cells(P, tops, N, texture, -0.8, R, radius=2.5, max_turn_deg=0.0)

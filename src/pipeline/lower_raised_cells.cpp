@@ -31,6 +31,11 @@ void validate(const LowerRaisedCellsParams& p) {
   if (!(p.height >= 0.0) || !std::isfinite(p.height))
     throw std::invalid_argument("lower_raised_cells: the texture height must be >= 0, got " +
                                 number_text(p.height));
+  if (!(p.max_turn_deg > 0.0 && p.max_turn_deg <= 180.0))
+    throw std::invalid_argument(
+        "the largest turn of a normal that still sinks (--cells-max-turn) must lie in (0, 180] "
+        "degrees, got " +
+        number_text(p.max_turn_deg));
   if (!(p.radius > 0.0) || !std::isfinite(p.radius))
     throw std::invalid_argument("lower_raised_cells: the radius must be positive, got " +
                                 number_text(p.radius));
@@ -88,6 +93,23 @@ std::vector<double> neighborhood_mean(const Positions& P, const Neighborhoods& R
   return out;
 }
 
+// For every point, the unit mean of its neighbors' normals within radius
+// (itself left out); a zero row where they have none or cancel out.
+Normals neighborhood_normal(const Positions& P, const Neighborhoods& R, const Normals& N,
+                            double radius_sq) {
+  const std::size_t n = static_cast<std::size_t>(P.rows());
+  Normals out = Normals::Zero(P.rows(), 3);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
+    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
+      if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq) sum += N.row(*it);
+    const double norm = sum.norm();
+    if (norm > 0.0) out.row(static_cast<Eigen::Index>(i)) = sum / norm;
+  }
+  return out;
+}
+
 }  // namespace
 
 LowerRaisedCellsResult lower_raised_cells(const Positions& P, const Positions& updated,
@@ -117,20 +139,33 @@ LowerRaisedCellsResult lower_raised_cells(const Positions& P, const Positions& u
   const std::vector<double> b = neighborhood_quantile(P, R, a, radius_sq, params.spread_quantile);
   const std::vector<double> c = neighborhood_mean(P, R, b, radius_sq);
   const double depth = params.max_depth * params.height;
-  std::size_t lowered = 0, limited = 0;
+  const bool turn_test = params.max_turn_deg < 180.0;
+  const Normals m = turn_test ? neighborhood_normal(P, R, normals, radius_sq) : Normals();
+  const double min_cos = std::cos(params.max_turn_deg * M_PI / 180.0);
+  std::size_t lowered = 0, limited = 0, turned = 0;
   for (std::size_t i = 0; i < n; ++i) {
     double sink = c[i];
     if (!(sink < 0.0) || !std::isfinite(sink)) continue;
-    if (depth > 0.0 && sink < t[i] - depth) {
-      sink = t[i] - depth;
+    // Where the output normal turned over against its neighbors', their mean
+    // says where down is; the depth limit is read along it too.
+    Eigen::RowVector3d dir = normals.row(i);
+    double ti = t[i];
+    if (turn_test && m.row(i).squaredNorm() > 0.0 && !(normals.row(i).dot(m.row(i)) >= min_cos)) {
+      dir = m.row(i);
+      ti = (P.row(i) - updated.row(i)).dot(dir);
+      ++turned;
+    }
+    if (depth > 0.0 && sink < ti - depth) {
+      sink = ti - depth;
       ++limited;
       if (!(sink < 0.0)) continue;
     }
-    out.positions.row(i) += sink * normals.row(i);
+    out.positions.row(i) += sink * dir;
     ++lowered;
   }
   out.lowered = lowered;
   out.limited = limited;
+  out.turned = turned;
   return out;
 }
 
