@@ -228,6 +228,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"tip_moves_limited\": %zu,\n", r.tip_moves_limited);
   add("  \"raised_cells_lowered\": %zu,\n", r.raised_cells_lowered);
   add("  \"raised_cells_limited\": %zu,\n", r.raised_cells_limited);
+  add("  \"raised_cells_turned\": %zu,\n", r.raised_cells_turned);
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
@@ -1024,6 +1025,10 @@ int run_detexture(int argc, char** argv) {
       if (r.raised_cells_limited > 0)
         std::fprintf(stderr, "  held within the depth limit %g below their inputs: %zu points\n",
                      params.raised_cells.max_depth * r.texture_height, r.raised_cells_limited);
+      if (r.raised_cells_turned > 0)
+        std::fprintf(stderr,
+                     "  sunk along their neighbors' normal, their own turned over: %zu points\n",
+                     r.raised_cells_turned);
       if (r.thin_part_points > 0)
         std::fprintf(stderr, "  neighborhoods shrunk to a thin part: %zu points (%.2f%%)\n",
                      r.thin_part_points, 100.0 * r.thin_part_points / cloud.size());

@@ -290,6 +290,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(tip_moves_limited);
   DETEXTURE_REPORT(raised_cells_lowered);
   DETEXTURE_REPORT(raised_cells_limited);
+  DETEXTURE_REPORT(raised_cells_turned);
   DETEXTURE_REPORT(normals_not_fitted);
   DETEXTURE_REPORT(normals_blended);
   DETEXTURE_REPORT(input_normals_kept);

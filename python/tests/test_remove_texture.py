@@ -505,8 +505,10 @@ def test_raised_cells_match_the_command_line(work):
     whose --stats reports the count."""
     d = detexture.default_parameters()
     assert (d["raised_cells_enabled"], d["raised_cells_low_quantile"],
-            d["raised_cells_spread_quantile"]) == (True, 0.02, 0.1)
+            d["raised_cells_spread_quantile"], d["raised_cells_max_depth"],
+            d["raised_cells_max_turn_deg"]) == (True, 0.02, 0.1, 1.25, 90.0)
     assert "raised_cells_radius" not in d and "raised_cells_min_lean" not in d
+    assert "raised_cells_height" not in d  # the texture height the run finds
     sphere = work / "sphere_scales.ply"
     run_cli("synth", "--shape", "sphere", "--texture", "scales", "--layout", "dense",
             "--size", "0.03", "--amplitude", "0.01", "-n", "20000",
@@ -521,8 +523,9 @@ def test_raised_cells_match_the_command_line(work):
     out, stats = work / "sphere_scales_lowered.ply", work / "sphere_scales_lowered.json"
     run_cli(sphere, "-o", out, "-r", "0.045", "--stats", stats, "-q", "--force")
     assert np.array_equal(detexture.read_point_cloud(out).positions, lowered.positions)
-    assert json.loads(stats.read_text())["raised_cells_lowered"] == \
-        lowered.report.raised_cells_lowered
+    written = json.loads(stats.read_text())
+    for key in ("raised_cells_lowered", "raised_cells_limited", "raised_cells_turned"):
+        assert written[key] == getattr(lowered.report, key), key
     out = work / "sphere_scales_tops.ply"
     run_cli(sphere, "-o", out, "-r", "0.045", "--keep-cells-tops", "-q", "--force")
     assert np.array_equal(detexture.read_point_cloud(out).positions, tops.positions)

@@ -595,6 +595,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
                            rep.relief_lean, R, lp);
     rep.raised_cells_lowered = l.lowered;
     rep.raised_cells_limited = l.limited;
+    rep.raised_cells_turned = l.turned;
     result.positions = std::move(l.positions);
   }
   result.texture_height.resize(static_cast<Eigen::Index>(n));

@@ -284,15 +284,16 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
   MPI_Gatherv(log.data(), length, MPI_DOUBLE, all.data(), lengths.data(), offsets.data(),
               MPI_DOUBLE, 0, MPI_COMM_WORLD);
   // The counts each rank's tiles added up, summed over the ranks.
-  unsigned long long counts[12] = {
+  unsigned long long counts[13] = {
       rep.report.texture_points,          rep.report.opposite_neighbors,
       rep.report.surface_split_neighbors, rep.report.normals_not_fitted,
       rep.report.normals_blended,         rep.report.waves_flagged,
       rep.report.waves_released,          rep.report.input_normals_kept,
       rep.report.counter_moves_limited,   rep.report.tip_moves_limited,
-      rep.report.raised_cells_lowered,    rep.report.raised_cells_limited};
-  unsigned long long counts_all[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  MPI_Reduce(counts, counts_all, 12, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+      rep.report.raised_cells_lowered,    rep.report.raised_cells_limited,
+      rep.report.raised_cells_turned};
+  unsigned long long counts_all[13] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  MPI_Reduce(counts, counts_all, 13, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
 
   if (rank == 0) {
     try {
@@ -308,6 +309,7 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.tip_moves_limited = static_cast<std::size_t>(counts_all[9]);
       rep.report.raised_cells_lowered = static_cast<std::size_t>(counts_all[10]);
       rep.report.raised_cells_limited = static_cast<std::size_t>(counts_all[11]);
+      rep.report.raised_cells_turned = static_cast<std::size_t>(counts_all[12]);
       std::vector<TileLogEntry> entries;
       for (std::size_t k = 0; k + kLogFields <= all.size(); k += kLogFields)
         entries.push_back(unpack(all.data() + k));

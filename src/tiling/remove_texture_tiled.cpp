@@ -58,6 +58,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.tip_moves_limited += t.tip_moves_limited;
   r.raised_cells_lowered += t.raised_cells_lowered;
   r.raised_cells_limited += t.raised_cells_limited;
+  r.raised_cells_turned += t.raised_cells_turned;
   r.normals_not_fitted += t.normals_not_fitted;
   r.normals_blended += t.normals_blended;
   r.input_normals_kept += t.input_normals_kept;

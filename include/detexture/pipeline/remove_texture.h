@@ -412,6 +412,10 @@ struct RemoveTextureReport {
   /// held above the cells' feet (LowerRaisedCellsParams::max_depth); tiled
   /// runs sum it.
   std::size_t raised_cells_limited = 0;
+  /// Of those lowered, the points that sank along their neighbors' mean
+  /// normal, their own having turned over (LowerRaisedCellsParams::
+  /// max_turn_deg); tiled runs sum it.
+  std::size_t raised_cells_turned = 0;
   /// Output normals not fitted to the positions (fit_normals_to_positions.h):
   /// these keep the filtered normal.
   std::size_t normals_not_fitted = 0;
