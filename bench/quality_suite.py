@@ -334,11 +334,12 @@ DETEXTURE_VARIANTS = [
      "the default before session 31)"),
     ("cells-unlimited", ["--cells-max-depth", "0", "--cells-max-turn", "180"],
      "dense raised cells lowered by the whole spread of their feet, even where that takes a "
-     "point more than 1.25 texture heights below its own input or along an output normal "
-     "turned against its input normal (lower_raised_cells.h; the default before session 34)"),
+     "point more than 1.25 texture heights below its own input, and along its own output "
+     "normal even where it turned over against its neighbors' (lower_raised_cells.h; the "
+     "default before session 34)"),
     ("cells-any-turn", ["--cells-max-turn", "180"],
-     "dense raised cells: points whose output normal turned against their input normal sink "
-     "too, along that normal (lower_raised_cells.h; the default before session 34)"),
+     "dense raised cells: points whose output normal turned over against their neighbors' sink "
+     "along it too, not along the neighbors' mean (lower_raised_cells.h; the depth limit kept)"),
     ("still-move-1", ["--keep-input-still-move", "1"],
      "an exact input normal is kept where the surface stayed only if nothing within 0.5 r "
      "moved by more than λ, not 3 λ, on every relief (keep_input_normals.h; the default "

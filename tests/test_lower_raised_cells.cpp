@@ -158,8 +158,8 @@ TEST(LowerRaisedCells, NoPointEndsMoreThanTheDepthLimitBelowItsInput) {
 TEST(LowerRaisedCells, APointAlreadyBelowItsInputSinksOnlyToTheLimit) {
   Cells c = cells();
   const int deep = 10 * 21 + 10, low = 10 * 21 + 11;  // two cells, not gaps
-  c.updated(deep, 2) = -0.05;                          // t = h + 0.05 >= d h: stays
-  c.updated(low, 2) = 0.2;                             // t = 0.1: sinks 0.2 more, to 0
+  c.updated(deep, 2) = -0.05;                         // t = h + 0.05 >= d h: stays
+  c.updated(low, 2) = 0.2;                            // t = 0.1: sinks 0.2 more, to 0
   LowerRaisedCellsParams p = params();
   p.max_depth = 1.0;
   const LowerRaisedCellsResult r =

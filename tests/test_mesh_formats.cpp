@@ -250,8 +250,9 @@ TEST(Off, BadFilesNameTheLine) {
       std::string::npos);
   // A face of 2^64 - 1 corners: corners + 1 wraps to 0 (the fuzzer's crash
   // of session 33); the reader must refuse it, not index past the line.
-  EXPECT_NE(read_error(dir.write("g.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n"
-                                          "18446744073709551615 0 1 2\n"))
+  EXPECT_NE(read_error(dir.write("g.off",
+                                 "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n"
+                                 "18446744073709551615 0 1 2\n"))
                 .find("line 5: face 0 declares 18446744073709551615 corners, but only 3"),
             std::string::npos);
 }

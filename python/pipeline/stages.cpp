@@ -359,8 +359,7 @@ void bind_stages(py::module_& m) {
       tip_doc.c_str());
 
   static const std::string cells_doc = stage_doc<LowerRaisedCellsParams>(
-      m, "lower_raised_cells",
-      "points, updated, normals, is_texture, lean, neighborhoods",
+      m, "lower_raised_cells", "points, updated, normals, is_texture, lean, neighborhoods",
       "positions, applied, lowered, limited, turned", "LowerRaisedCellsParams");
   m.def(
       "lower_raised_cells",

@@ -50,6 +50,14 @@ double quantile(std::vector<double>& v, double q) {
   return v[k];
 }
 
+// Calls f(j) for every neighbor j of i within radius (i itself left out).
+template <typename F>
+void for_each_within(const Positions& P, const Neighborhoods& R, std::size_t i, double radius_sq,
+                     F&& f) {
+  for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
+    if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq) f(*it);
+}
+
 // For every point, the q-quantile of value over itself and its neighbors
 // within radius.
 std::vector<double> neighborhood_quantile(const Positions& P, const Neighborhoods& R,
@@ -64,9 +72,7 @@ std::vector<double> neighborhood_quantile(const Positions& P, const Neighborhood
     for (std::size_t i = 0; i < n; ++i) {
       v.clear();
       v.push_back(value[i]);
-      for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
-        if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq)
-          v.push_back(value[*it]);
+      for_each_within(P, R, i, radius_sq, [&](std::uint32_t j) { v.push_back(value[j]); });
       out[i] = quantile(v, q);
     }
   }
@@ -83,11 +89,10 @@ std::vector<double> neighborhood_mean(const Positions& P, const Neighborhoods& R
   for (std::size_t i = 0; i < n; ++i) {
     double sum = value[i];
     std::size_t count = 1;
-    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
-      if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq) {
-        sum += value[*it];
-        ++count;
-      }
+    for_each_within(P, R, i, radius_sq, [&](std::uint32_t j) {
+      sum += value[j];
+      ++count;
+    });
     out[i] = sum / static_cast<double>(count);
   }
   return out;
@@ -102,8 +107,7 @@ Normals neighborhood_normal(const Positions& P, const Neighborhoods& R, const No
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it)
-      if (*it != i && (P.row(*it) - P.row(i)).squaredNorm() <= radius_sq) sum += N.row(*it);
+    for_each_within(P, R, i, radius_sq, [&](std::uint32_t j) { sum += N.row(j); });
     const double norm = sum.norm();
     if (norm > 0.0) out.row(static_cast<Eigen::Index>(i)) = sum / norm;
   }

@@ -590,9 +590,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     lp.min_share = params.counter_moves.engraved_share;
     lp.radius = up.solve_radius;
     lp.height = rep.texture_height;
-    LowerRaisedCellsResult l =
-        lower_raised_cells(P, result.positions, result.normals, result.is_texture,
-                           rep.relief_lean, R, lp);
+    LowerRaisedCellsResult l = lower_raised_cells(P, result.positions, result.normals,
+                                                  result.is_texture, rep.relief_lean, R, lp);
     rep.raised_cells_lowered = l.lowered;
     rep.raised_cells_limited = l.limited;
     rep.raised_cells_turned = l.turned;

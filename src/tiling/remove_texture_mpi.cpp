@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -284,7 +285,7 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
   MPI_Gatherv(log.data(), length, MPI_DOUBLE, all.data(), lengths.data(), offsets.data(),
               MPI_DOUBLE, 0, MPI_COMM_WORLD);
   // The counts each rank's tiles added up, summed over the ranks.
-  unsigned long long counts[13] = {
+  const unsigned long long counts[] = {
       rep.report.texture_points,          rep.report.opposite_neighbors,
       rep.report.surface_split_neighbors, rep.report.normals_not_fitted,
       rep.report.normals_blended,         rep.report.waves_flagged,
@@ -292,8 +293,9 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.counter_moves_limited,   rep.report.tip_moves_limited,
       rep.report.raised_cells_lowered,    rep.report.raised_cells_limited,
       rep.report.raised_cells_turned};
-  unsigned long long counts_all[13] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  MPI_Reduce(counts, counts_all, 13, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  unsigned long long counts_all[std::size(counts)] = {};
+  MPI_Reduce(counts, counts_all, static_cast<int>(std::size(counts)), MPI_UNSIGNED_LONG_LONG,
+             MPI_SUM, 0, MPI_COMM_WORLD);
 
   if (rank == 0) {
     try {
