@@ -226,6 +226,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"relief_lean\": %.6g,\n  \"counter_moves_limited\": %zu,\n", r.relief_lean,
       r.counter_moves_limited);
   add("  \"tip_moves_limited\": %zu,\n", r.tip_moves_limited);
+  add("  \"sink_moves_limited\": %zu,\n", r.sink_moves_limited);
   add("  \"raised_cells_lowered\": %zu,\n", r.raised_cells_lowered);
   add("  \"raised_cells_limited\": %zu,\n", r.raised_cells_limited);
   add("  \"raised_cells_turned\": %zu,\n", r.raised_cells_turned);
@@ -428,6 +429,16 @@ int run_detexture(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tip-slack", params.tips.slack,
                  "How far past its farthest neighbor a tip may lie, and end, in units of λ")
+      ->capture_default_str();
+  app.add_option("--sink-depth", params.sinks.depth,
+                 "Where the relief was raised, a point that a neighbor within the solve radius "
+                 "rises this many λ above, along its normal, sinks no farther than the texture "
+                 "height, or its own height above the surface fitted to its neighborhood plus "
+                 "--sink-slack λ where that is more")
+      ->capture_default_str();
+  app.add_option("--sink-slack", params.sinks.slack,
+                 "How far below its own height above its fitted surface such a point may sink, "
+                 "in units of λ; 0 turns the limit off")
       ->capture_default_str();
   app.add_flag("!--keep-cells-tops", params.raised_cells.enabled,
                "Leave the output on the tops of dense raised cells (scales packed edge to "
@@ -1018,6 +1029,9 @@ int run_detexture(int argc, char** argv) {
       if (r.tip_moves_limited > 0)
         std::fprintf(stderr, "  tips of the relief held at their neighbors: %zu points\n",
                      r.tip_moves_limited);
+      if (r.sink_moves_limited > 0)
+        std::fprintf(stderr, "  sinks held at their own relief's depth: %zu points\n",
+                     r.sink_moves_limited);
       if (r.raised_cells_lowered > 0)
         std::fprintf(stderr,
                      "  dense raised cells (lean %.2f): %zu points lowered to the cells' feet\n",

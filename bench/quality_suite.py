@@ -319,6 +319,10 @@ DETEXTURE_VARIANTS = [
      "the tops and bottoms of the relief free to end past their neighbors: groove floors "
      "carried deeper and crests further out by the rounded normals (limit_tip_moves.h; the "
      "default before session 26)"),
+    ("no-sink-limit", ["--sink-slack", "0"],
+     "points that raised relief rises above free to sink past their own height above their "
+     "fitted surface: junction points carried inward by the rounded normals "
+     "(limit_sink_moves.h; the default before session 35)"),
     ("counter-hard", ["--counter-move-hard"],
      "moves against the relief cut at the limit instead of saturated smoothly "
      "(limit_counter_moves.h; the default in session 19)"),

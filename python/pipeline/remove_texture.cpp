@@ -288,6 +288,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(relief_lean);
   DETEXTURE_REPORT(counter_moves_limited);
   DETEXTURE_REPORT(tip_moves_limited);
+  DETEXTURE_REPORT(sink_moves_limited);
   DETEXTURE_REPORT(raised_cells_lowered);
   DETEXTURE_REPORT(raised_cells_limited);
   DETEXTURE_REPORT(raised_cells_turned);

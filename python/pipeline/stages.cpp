@@ -1,12 +1,11 @@
 // The stages of the method run alone, for callers who reuse neighborhoods or
 // swap a stage: detect_texture (Eq. 2), drop_neighbors_across_surfaces,
 // filter_normals_gaussian (Eq. 1), filter_normals_rolling (Eqs. 3-8),
-// update_positions (Eqs. 9-10), limit_counter_moves, limit_tip_moves and
-// lower_raised_cells
-// (after the update), fit_normals_to_positions and keep_input_normals
-// (output normals). Keywords
-// come from each stage's Params struct (params.h); results are dicts of
-// arrays and counts, named as the C++ result members.
+// update_positions (Eqs. 9-10), limit_counter_moves, limit_tip_moves,
+// limit_sink_moves and lower_raised_cells (after the update),
+// fit_normals_to_positions and keep_input_normals (output normals).
+// Keywords come from each stage's Params struct (params.h); results are
+// dicts of arrays and counts, named as the C++ result members.
 #include <pybind11/stl.h>
 
 #include <utility>
@@ -19,6 +18,7 @@
 #include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/limit_counter_moves.h"
+#include "detexture/pipeline/limit_sink_moves.h"
 #include "detexture/pipeline/limit_tip_moves.h"
 #include "detexture/pipeline/lower_raised_cells.h"
 #include "detexture/pipeline/update_positions.h"
@@ -357,6 +357,34 @@ void bind_stages(py::module_& m) {
       },
       py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("neighborhoods"),
       tip_doc.c_str());
+
+  static const std::string sink_doc = stage_doc<LimitSinkMovesParams>(
+      m, "limit_sink_moves", "points, updated, normals, surface_height, neighborhoods, raised",
+      "positions, limited", "LimitSinkMovesParams");
+  m.def(
+      "limit_sink_moves",
+      [](const py::object& points, const py::object& updated, const py::object& normals,
+         const py::object& surface_height, const Neighborhoods& R, bool raised,
+         const py::kwargs& kwargs) {
+        const auto params = params_from_kwargs<LimitSinkMovesParams>(kwargs, "limit_sink_moves");
+        validate(params);
+        const auto [P, N] = points_and_normals(points, normals, R);
+        const Positions Q = to_matrix3(updated, "updated");
+        check_rows(P, Q, "updated");
+        const std::vector<float> h =
+            to_vector<float>(surface_height, "surface_height", static_cast<std::size_t>(P.rows()));
+        LimitSinkMovesResult c;
+        {
+          py::gil_scoped_release release;
+          c = limit_sink_moves(P, Q, N, h, R, raised, params);
+        }
+        py::dict d;
+        d["positions"] = to_array(std::move(c.positions));
+        d["limited"] = c.limited;
+        return d;
+      },
+      py::arg("points"), py::arg("updated"), py::arg("normals"), py::arg("surface_height"),
+      py::arg("neighborhoods"), py::arg("raised"), sink_doc.c_str());
 
   static const std::string cells_doc = stage_doc<LowerRaisedCellsParams>(
       m, "lower_raised_cells", "points, updated, normals, is_texture, lean, neighborhoods",

@@ -531,6 +531,33 @@ def test_raised_cells_match_the_command_line(work):
     assert np.array_equal(detexture.read_point_cloud(out).positions, tops.positions)
 
 
+def test_sink_moves_match_the_command_line(work):
+    """Under raised relief, a point that relief rises above sinks no deeper
+    than the texture height, or its own height plus the slack
+    (limit_sink_moves.h): on a saddle with multiscale bumps some points are
+    held; sinks_slack = 0 turns it off; the same from Python and from the
+    command line, whose --stats reports the count."""
+    d = detexture.default_parameters()
+    assert (d["sinks_depth"], d["sinks_slack"]) == (2.0, 3.0)
+    assert not {"sinks_height", "sinks_radius", "sinks_lambda"} & set(d)
+    saddle = work / "saddle_multiscale.ply"
+    run_cli("synth", "--shape", "saddle", "--texture", "multiscale", "-n", "20000",
+            "--ground-truth-points", "100", "--seed", "1", "-o", saddle)
+    cloud = detexture.read_point_cloud(saddle)
+    held = detexture.remove_texture(cloud)
+    free = detexture.remove_texture(cloud, sinks_slack=0.0)
+    assert held.report.sink_moves_limited > 10 and free.report.sink_moves_limited == 0
+    assert held.report.relief_lean > 0.35
+    assert not np.array_equal(held.positions, free.positions)
+    out, stats = work / "saddle_multiscale_held.ply", work / "saddle_multiscale_held.json"
+    run_cli(saddle, "-o", out, "--stats", stats, "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, held.positions)
+    assert json.loads(stats.read_text())["sink_moves_limited"] == held.report.sink_moves_limited
+    out = work / "saddle_multiscale_free.ply"
+    run_cli(saddle, "-o", out, "--sink-slack", "0", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, free.positions)
+
+
 def test_tip_moves_match_the_command_line(work):
     """The tops and bottoms of the relief do not end past their neighbors
     (limit_tip_moves.h): on a sphere with U grooves some groove floors are

@@ -248,6 +248,48 @@ def test_limit_tip_moves_holds_the_tops_and_bottoms_of_relief():
         detexture.limit_tip_moves(P, moved, N, R, radius=1.5, lambda_=0.1, slack=-1.0)
 
 
+def test_limit_sink_moves_holds_points_under_relief_at_their_own_depth():
+    # A 5 x 5 grid of spacing 1 on z = 0, normals +z, each point 0.1 from
+    # its fitted surface; point 13 raised by 0.5 beside the centre (12).
+    # λ = 0.1, ρ = 1.5, depth 2 (0.2), slack 3 (0.3): the centre sunk by 1
+    # stops at 0.1 + 0.3 below its input (no texture height given), sideways
+    # moves stay. Without the relief above it (a top), not raised, or slack
+    # 0: unchanged.
+    g = np.arange(5.0) - 2.0
+    x, y = (a.ravel() for a in np.meshgrid(g, g, indexing="xy"))
+    N = np.tile([0.0, 0.0, 1.0], (25, 1))
+    height = np.full(25, 0.1)
+    P = np.column_stack([x, y, np.zeros(25)])
+    P[13, 2] = 0.5
+    R = detexture.radius_neighborhoods(P, 1.5)
+    moved = P.copy()
+    moved[12] += [0.05, 0.0, -1.0]
+    c = detexture.limit_sink_moves(P, moved, N, height, R, True, radius=1.5, lambda_=0.1)
+    expected = moved.copy()
+    expected[12, 2] = -0.4
+    assert c["limited"] == 1 and np.allclose(c["positions"], expected, rtol=0, atol=1e-7)
+    # The texture height is a floor: with 0.6 the centre sinks to 0.6.
+    c = detexture.limit_sink_moves(P, moved, N, height, R, True, radius=1.5, lambda_=0.1,
+                                   height=0.6)
+    expected[12, 2] = -0.6
+    assert c["limited"] == 1 and np.allclose(c["positions"], expected, rtol=0, atol=1e-12)
+    flat = P.copy()
+    flat[13, 2] = 0.0
+    top_moved = flat.copy()
+    top_moved[12, 2] = -1.0
+    Rf = detexture.radius_neighborhoods(flat, 1.5)
+    for kept in (detexture.limit_sink_moves(flat, top_moved, N, height, Rf, True, radius=1.5,
+                                            lambda_=0.1),
+                 detexture.limit_sink_moves(P, moved, N, height, R, False, radius=1.5,
+                                            lambda_=0.1),
+                 detexture.limit_sink_moves(P, moved, N, height, R, True, radius=1.5,
+                                            lambda_=0.1, slack=0.0)):
+        assert kept["limited"] == 0
+    with pytest.raises(ValueError, match="sink-slack"):
+        detexture.limit_sink_moves(P, moved, N, height, R, True, radius=1.5, lambda_=0.1,
+                                   slack=-1.0)
+
+
 def test_lower_raised_cells_sinks_the_tops_to_the_gaps():
     # A 21 x 21 grid of spacing 1, every third row and column a gap at z = 0
     # and the cells at 0.3; the update left every point at 0.3, normals +z.

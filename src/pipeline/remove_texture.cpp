@@ -157,6 +157,10 @@ void validate(const RemoveTextureParams& p) {
   tips.radius = 1.0;
   tips.lambda = 1.0;
   validate(tips);
+  LimitSinkMovesParams sinks = p.sinks;
+  sinks.radius = 1.0;
+  sinks.lambda = 1.0;
+  validate(sinks);
   LowerRaisedCellsParams cells = p.raised_cells;
   cells.min_lean = p.counter_moves.engraved_min_lean;
   cells.min_share = p.counter_moves.engraved_share;
@@ -405,8 +409,12 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.mesh_path_neighbors = kept.removed;
   }
 
-  std::vector<float> omega;           // membership of Ω, for the filters
-  std::vector<float> surface_height;  // of each point above its own fitted surface
+  std::vector<float> omega;  // membership of Ω, for the filters
+  // Of each point above its own fitted surface: for the global update's
+  // anchors and for limit_sink_moves; empty when neither reads it.
+  std::vector<float> own_height;
+  const bool anchors_read_height =
+      params.anchor_height > 0.0 && params.update.mode == UpdateMode::Global;
   {
     StageClock clock(observer, rep, "detect texture");
     DetectTextureParams tp = params.texture;
@@ -432,8 +440,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     for (std::size_t i = 0; i < n; ++i)
       if (result.is_texture[i]) heights.push_back(det.height[i]);
     if (heights.empty()) heights = det.height;
-    if (params.anchor_height > 0.0 && params.update.mode == UpdateMode::Global)
-      surface_height = std::move(det.height);  // only the global update reads it
+    if (anchors_read_height || params.sinks.slack > 0.0) own_height = std::move(det.height);
     if (!heights.empty()) {
       const std::size_t at = (heights.size() - 1) * 99 / 100;
       std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(at),
@@ -473,6 +480,12 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   LimitTipMovesParams tp = params.tips;
   tp.radius = up.solve_radius;
   tp.lambda = rep.lambda;
+  LimitSinkMovesParams sp = params.sinks;
+  sp.radius = up.solve_radius;
+  sp.lambda = rep.lambda;
+  sp.height = rep.texture_height;
+  const std::vector<float> no_height;
+  const std::vector<float>& surface_height = anchors_read_height ? own_height : no_height;
   int relief_side = 0;  // the last pass's limit_counter_moves side, for keep_input_normals
   // released: the points whose anchors the waves pass lowered (empty on the
   // first pass), for limit_counter_moves.
@@ -489,6 +502,12 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     rep.counter_moves_limited = c.limited;
     LimitTipMovesResult t = limit_tip_moves(P, c.positions, result.input_normals, R, tp);
     rep.tip_moves_limited = t.limited;
+    if (sp.slack > 0.0) {
+      LimitSinkMovesResult k =
+          limit_sink_moves(P, t.positions, filtered, own_height, R, c.side > 0, sp);
+      rep.sink_moves_limited = k.limited;
+      t.positions = std::move(k.positions);
+    }
     result.positions = std::move(t.positions);
   };
   {

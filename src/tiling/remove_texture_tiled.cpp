@@ -56,6 +56,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.relief_lean += t.relief_lean * core;  // divided by the caller
   r.counter_moves_limited += t.counter_moves_limited;
   r.tip_moves_limited += t.tip_moves_limited;
+  r.sink_moves_limited += t.sink_moves_limited;
   r.raised_cells_lowered += t.raised_cells_lowered;
   r.raised_cells_limited += t.raised_cells_limited;
   r.raised_cells_turned += t.raised_cells_turned;

@@ -28,6 +28,7 @@
 #include "detexture/pipeline/fit_normals_to_positions.h"
 #include "detexture/pipeline/keep_input_normals.h"
 #include "detexture/pipeline/limit_counter_moves.h"
+#include "detexture/pipeline/limit_sink_moves.h"
 #include "detexture/pipeline/limit_tip_moves.h"
 #include "detexture/pipeline/lower_raised_cells.h"
 #include "detexture/pipeline/repair_folds.h"
@@ -141,6 +142,17 @@ struct RemoveTextureParams {
   /// per group, no case worse. radius and lambda are filled here; depth 0
   /// turns it off (before session 26).
   LimitTipMovesParams tips;
+  /// Moves below a point's own relief (limit_sink_moves.h; after the tips,
+  /// with every update): where the relief was raised (counter_moves' side)
+  /// and a neighbor within the solve radius rises at least depth × λ above
+  /// a point along its filtered normal, the point sinks no farther than the
+  /// texture height (report texture_height, which fills height), or than
+  /// its own height above the surface fitted to its neighborhood (Eq. 2's
+  /// nearest model) plus slack × λ where that is more. Measured
+  /// (bench/quality_real_notes.md, session 35): the spider's Dmax 1.34 ->
+  /// 1.10 × the input's; see the header. height, radius and lambda are
+  /// filled here; slack 0 turns it off (before session 35).
+  LimitSinkMovesParams sinks;
   /// Dense raised cells lowered to their feet (lower_raised_cells.h; after
   /// the output normals): where the relief leans engraved and more than
   /// counter_moves.engraved_share of the points are texture (scales packed
@@ -405,6 +417,9 @@ struct RemoveTextureReport {
   /// Tips of the relief whose move was cut (limit_tip_moves.h), after the
   /// last update; tiled runs sum it.
   std::size_t tip_moves_limited = 0;
+  /// Points held at their own relief's depth (limit_sink_moves.h), after
+  /// the last update; tiled runs sum it.
+  std::size_t sink_moves_limited = 0;
   /// Points lowered to the feet of dense raised cells (lower_raised_cells.h;
   /// 0 where the relief was not read as such); tiled runs sum it.
   std::size_t raised_cells_lowered = 0;
