@@ -320,9 +320,9 @@ DETEXTURE_VARIANTS = [
      "carried deeper and crests further out by the rounded normals (limit_tip_moves.h; the "
      "default before session 26)"),
     ("no-sink-limit", ["--sink-slack", "0"],
-     "points that raised relief rises above free to sink past their own height above their "
-     "fitted surface: junction points carried inward by the rounded normals "
-     "(limit_sink_moves.h; the default before session 35)"),
+     "points that raised relief rises above free to sink deeper than the texture height and "
+     "their own height above their fitted surface: junction points carried inward by the "
+     "rounded normals (limit_sink_moves.h; the default before session 35)"),
     ("counter-hard", ["--counter-move-hard"],
      "moves against the relief cut at the limit instead of saturated smoothly "
      "(limit_counter_moves.h; the default in session 19)"),
