@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "relief_along_normal.h"
+
 namespace detexture {
 
 void validate(const LimitSinkMovesParams& p) {
@@ -49,12 +51,7 @@ LimitSinkMovesResult limit_sink_moves(const Positions& P, const Positions& updat
     const double t = (updated.row(i) - p).dot(normal);
     const double deepest = -std::max(params.height, static_cast<double>(surface_height[i]) + slack);
     if (!(t < deepest)) continue;  // the common case: no neighbor loop
-    double hi = 0.0;
-    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
-      const Eigen::RowVector3d d = P.row(*it) - p;
-      if (d.squaredNorm() <= radius_sq) hi = std::max(hi, d.dot(normal));
-    }
-    if (hi >= depth) {
+    if (relief_along_normal(P, R, i, normal, radius_sq).hi >= depth) {
       out.positions.row(i) += (deepest - t) * normal;
       ++limited;
     }

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "relief_along_normal.h"
+
 namespace detexture {
 
 void validate(const LimitTipMovesParams& p) {
@@ -40,14 +42,7 @@ LimitTipMovesResult limit_tip_moves(const Positions& P, const Positions& updated
 #pragma omp parallel for schedule(dynamic, 1024) reduction(+ : limited)
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::RowVector3d p = P.row(i), normal = normals.row(i);
-    double hi = 0.0, lo = 0.0;
-    for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
-      const Eigen::RowVector3d d = P.row(*it) - p;
-      if (d.squaredNorm() > radius_sq) continue;
-      const double h = d.dot(normal);
-      hi = std::max(hi, h);
-      lo = std::min(lo, h);
-    }
+    const auto [hi, lo] = relief_along_normal(P, R, i, normal, radius_sq);
     const double t = (updated.row(i) - p).dot(normal);
     double cut = t;
     if (hi <= slack && lo <= -depth) cut = std::min(t, hi + slack);  // a peak

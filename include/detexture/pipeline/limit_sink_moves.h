@@ -85,8 +85,7 @@ void validate(const LimitSinkMovesParams& params);
 /// normals  #P by 3 unit normals n the update moved along (oriented:
 ///   inward is -n)
 /// surface_height  #P distances η of each input point from its own fitted
-///   surface
-///   (TextureDetection::height), >= 0
+///   surface (TextureDetection::height), >= 0
 /// R  the neighborhoods; only neighbors within ρ count
 /// raised  whether the relief was raised (limit_counter_moves' side +1);
 ///   false returns the updated positions unchanged
