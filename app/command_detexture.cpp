@@ -666,6 +666,12 @@ int run_detexture(int argc, char** argv) {
                  "Output normals: the fewest members (>= 3) a facet needs for "
                  "--keep-input-facet-neighbors; 8 before session 28")
       ->capture_default_str();
+  app.add_option("--keep-input-facet-groups", params.keep_input.facet_groups,
+                 "Output normals: for --keep-input-facet-neighbors, more than 2 neighbors that "
+                 "turn gradually are allowed where their input normals lie on at most this "
+                 "many other flat facets (the far side of a shallow edge, the facets around a "
+                 "vertex); 0 for the count alone (before session 36)")
+      ->capture_default_str();
   app.add_option("--keep-input-still-reach", params.keep_input.still_reach,
                  "Output normals: for --keep-input-still-angle, some fitted normal within "
                  "--solve-radius must lie within this fraction of the input normal's angle to "

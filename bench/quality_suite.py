@@ -303,6 +303,11 @@ DETEXTURE_VARIANTS = [
      "a facet found past its edges needs 8 members among the 24 nearest, not 4: small "
      "facets of low-poly models keep the fitted normal (keep_input_normals.h; the default "
      "before session 28)"),
+    ("facet-groups-0", ["--keep-input-facet-groups", "0"],
+     "a facet found past its edges allows at most 2 neighbors whose input normals turn by "
+     "1-3°, even where they all lie on one other facet: points beside the shallow edges of "
+     "low-poly models keep the fitted normal (keep_input_normals.h; the default before "
+     "session 36)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

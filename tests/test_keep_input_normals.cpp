@@ -325,11 +325,18 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   EXPECT_EQ(r.facets, r.exact - r_off.exact);
   EXPECT_GE(r.facets, 2u * 17u);
   EXPECT_EQ(taken_x(run(3.5 * lambda, given, p), given), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
-  // B's input normals 2° from A's instead of 20°: to a point at the fold
-  // they turn gradually, not across an edge.
+  // B's input normals 2° from A's instead of 20°, tilted towards an azimuth
+  // that turns by 72° from row to row: to a point at the fold they turn
+  // gradually and from point to point (a flank's), neither across an edge
+  // nor onto one other facet, so they are not taken at the default g = 2.
   Normals gradual = given;
   for (int i = 0; i < P.rows(); ++i)
-    if (P(i, 0) > 0.05) gradual.row(i) = Eigen::RowVector3d(-std::sin(0.035), 0.0, std::cos(0.035));
+    if (P(i, 0) > 0.05) {
+      const double azimuth = 72.0 * (i / side) * M_PI / 180.0, tilt = 2.0 * M_PI / 180.0;
+      gradual.row(i) = Eigen::RowVector3d(std::sin(tilt) * std::cos(azimuth),
+                                          std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
+    }
+  ASSERT_EQ(p.facet_groups, 2);
   EXPECT_EQ(run(0.5 * lambda, gradual, p).facets, 0u);
   KeepInputNormalsParams any = p;
   any.facet_transitional = 24;
@@ -365,6 +372,49 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   };
   EXPECT_EQ(strip(0.05), 0);
   EXPECT_EQ(strip(0.15), 3 * 17);
+}
+
+// Shallow edges (session 36): the grid folded by 2° instead of 20° at
+// x = 0.05 (positions and exact input normals alike), output normals
+// rounded across it, every point moved by 0.5 λ. At the fold (x = 0 and
+// 0.1) the 8 nearest neighbors reach the other facet (0.0017 off the
+// tangent plane, over 0.05 λ), so the plain test fails; among the 24
+// nearest, 8 input normals lie 2° off (between φ = 1° and c φ = 3°: more
+// than t = 2 transitional), all of them on the one other facet, in its
+// plane: taken with g >= 1 (the default 2), not with g = 0 (before session
+// 36).
+TEST(KeepInputNormals, ShallowEdgesAreFacets) {
+  constexpr int side = 21;
+  const double lambda = 0.01, fold = 2.0 * M_PI / 180.0;
+  Positions P(side * side, 3);
+  Normals given(side * side, 3), output(side * side, 3);
+  for (int i = 0; i < P.rows(); ++i) {
+    const double x = -1.0 + 0.1 * (i % side);
+    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
+                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
+    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
+                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
+    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
+    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
+  }
+  const auto taken_x = [&](const Positions& Q, int groups) {
+    Positions updated = Q;
+    updated.col(1).array() += 0.5 * lambda;
+    KeepInputNormalsParams q = params_at(0.25, lambda);
+    q.facet_groups = groups;
+    const KeepInputNormalsResult r =
+        keep_input_normals(Q, updated, given, output, {}, radius_neighborhoods(Q, {0.3, 0}), q);
+    return taken_tenths(r, Q, given, output, 10 * side + 7, 10 * side + 14);
+  };
+  ASSERT_EQ(KeepInputNormalsParams{}.facet_groups, 2);
+  const std::vector<int> all{-3, -2, -1, 0, 1, 2, 3, 4};
+  EXPECT_EQ(taken_x(P, 2), all);
+  EXPECT_EQ(taken_x(P, 1), all);
+  EXPECT_EQ(taken_x(P, 0), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+  // That the other facet must lie in its own normal's plane is what keeps
+  // normals alternating by 2° over one plane out (the "turning" normals of
+  // ExactInputNormalsAreTakenWhereTheSurfaceStayed and
+  // TexturePointsTakeAFacetsNormal: one other direction, but not a facet).
 }
 
 // Small facets (session 28): the flat grid z = 0 (normal +z, spacing 0.1)
@@ -582,6 +632,15 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   p.facet_neighbors = 0;
   EXPECT_NO_THROW(validate(p));
   p.facet_neighbors = 7;  // reads exact_neighbors (8)
+  EXPECT_NO_THROW(validate(p));
+  p = params_at(0.2, 0.01);
+  p.facet_groups = -1;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.facet_groups = kMaxFacetGroups + 1;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.facet_groups = kMaxFacetGroups;
+  EXPECT_NO_THROW(validate(p));
+  p.facet_groups = 0;
   EXPECT_NO_THROW(validate(p));
   p = params_at(0.2, 0.01);
   p.facet_members = 2;

@@ -359,7 +359,7 @@ def test_keep_input_normals_match_the_command_line(cube, work):
     assert d["keep_input_still_move_engraved"] == 1.0 and "keep_input_engraved" not in d
     assert (d["keep_input_facet_neighbors"], d["keep_input_facet_spread"],
             d["keep_input_facet_jump"], d["keep_input_facet_transitional"],
-            d["keep_input_facet_members"]) == (24, 0.1, 3.0, 2, 4)
+            d["keep_input_facet_members"], d["keep_input_facet_groups"]) == (24, 0.1, 3.0, 2, 4, 2)
     assert (d["keep_input_still_reach"], d["keep_input_still_facet_move"],
             d["keep_input_texture_facets"]) == (0.5, True, True)
     assert "keep_input_radius" not in d and "keep_input_lambda" not in d

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -88,6 +89,10 @@ void validate(const KeepInputNormalsParams& p) {
         "the facet test's transitional count (KeepInputNormalsParams::facet_transitional, "
         "Python keep_input_facet_transitional) must be >= 0, got " +
         number_text(p.facet_transitional));
+  if (p.facet_groups < 0 || p.facet_groups > kMaxFacetGroups)
+    throw std::invalid_argument(
+        "the facet test's number of other facets (--keep-input-facet-groups) must lie in [0, " +
+        number_text(kMaxFacetGroups) + "] (0: off), got " + number_text(p.facet_groups));
 }
 
 KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& updated,
@@ -139,7 +144,13 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       params.facet_neighbors == 0 ? 0 : std::max(params.facet_neighbors, params.exact_neighbors);
   const auto flat_facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
     if (facet_neighbors == 0) return false;
-    int looked = 0, members = 0, transitional = 0;
+    int looked = 0, members = 0, transitional = 0, groups = 0;
+    // Per other facet the transitional neighbors lie on, while there are at
+    // most g of them: its first input normal and point (the others within φ
+    // of that normal), and how far its points lie off that plane in all.
+    std::array<Eigen::RowVector3d, kMaxFacetGroups> group, group_at;
+    std::array<double, kMaxFacetGroups> group_off{};
+    std::array<int, kMaxFacetGroups> group_size{};
     double sum = 0.0;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
@@ -151,7 +162,24 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       if (!(norm > 0.0)) continue;
       const double c = std::abs(g.dot(unit_given));
       if (c < uniform_cos * norm) {
-        if (c >= jump_cos * norm && ++transitional > params.facet_transitional) return false;
+        if (c < jump_cos * norm) continue;  // past an edge's jump
+        ++transitional;
+        if (groups <= params.facet_groups) {
+          const Eigen::RowVector3d unit = g / norm;
+          int q = 0;
+          while (q < groups && std::abs(unit.dot(group[static_cast<std::size_t>(q)])) < uniform_cos)
+            ++q;
+          if (q < groups) {
+            const auto u = static_cast<std::size_t>(q);
+            group_off[u] += std::abs(group[u].dot(P.row(*nb) - group_at[u]));
+            ++group_size[u];
+          } else if (groups++ < params.facet_groups) {
+            group[static_cast<std::size_t>(q)] = unit;
+            group_at[static_cast<std::size_t>(q)] = P.row(*nb);
+            group_size[static_cast<std::size_t>(q)] = 1;
+          }
+        }
+        if (transitional > params.facet_transitional && groups > params.facet_groups) return false;
         continue;
       }
       const Eigen::Vector3d d = (P.row(*nb) - P.row(i)).transpose();
@@ -161,6 +189,14 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       ++members;
     }
     if (members < params.facet_members || sum > max_residual * members) return false;
+    // The other facets are flat too: their points lie in the plane of their
+    // normal, as the far side of an edge does and noisy or alternating
+    // normals over one plane do not.
+    if (transitional > params.facet_transitional)
+      for (int q = 0; q < groups; ++q)
+        if (group_off[static_cast<std::size_t>(q)] >
+            max_residual * group_size[static_cast<std::size_t>(q)])
+          return false;
     mean /= members;
     const Eigen::Matrix3d cov = second / members - mean * mean.transpose();
     const Eigen::Vector3d spread =

@@ -86,7 +86,8 @@
 //
 //   F_i = { j among the K nearest of R_i : ∠(ñ_j, ñ_i) <= φ },
 //   |F_i| >= m,   (1/|F_i|) Σ_{j ∈ F_i} |ñ_i·(p_j - p_i)| <= e λ,
-//   σ_2(F_i) >= s σ_1(F_i),   #{ j among the K : φ < ∠(ñ_j, ñ_i) <= c φ } <= t,
+//   σ_2(F_i) >= s σ_1(F_i),   #{ j among the K : φ < ∠(ñ_j, ñ_i) <= c φ } <= t
+//   (or those lie on at most g other facets: "Shallow edges" below),
 //
 // with K = facet_neighbors (at least k), m = facet_members (k until
 // session 28), s = facet_spread, c = facet_jump, t = facet_transitional,
@@ -196,6 +197,36 @@
 // counter-move limit already recognizes (V grooves lean -0.36 to -1.0).
 // Measured on both quality suites and the spot check's 96 unseen cases
 // (bench/quality_real_notes.md, session 32).
+//
+// Shallow edges (session 36): more than t transitional neighbors are
+// allowed in F_i's test where their input normals lie on at most g =
+// facet_groups other facets,
+//
+//   T_i = { j among the K : φ < ∠(ñ_j, ñ_i) <= c φ },   |T_i| <= t  or  G(T_i) <= g,
+//
+// G counting the groups of T_i's normals, each within φ of the first
+// normal of its group (taken in the order of distance), and each group
+// flat: its points within e λ on average of the plane of its first point
+// and normal. A facet edge of a few degrees puts every neighbor across it
+// between φ and c φ, but on one other facet, whose normals agree and whose
+// points lie in its plane; a flank's normals turn from point to point and
+// fall into many groups, and normals that alternate over one plane (noise,
+// two directions) are not the plane's. On the spot check's faerie (bumps),
+// points with exact input normals that did not move but lie within a
+// spacing or two of a shallow edge kept fitted normals 3.3° off on average,
+// most for want of t (a low-poly model subdivided once has many edges of
+// 1-3°). Quick runs against g = 0 (the rule, normal error, geometric means;
+// residual texture and Dmax unchanged but where lower_raised_cells sinks
+// along the output normals, within 0.04%): the spot check's 30 dense
+// reliefs -1.94% (the epileptic's bumps -7.6%, sydney's -4.5%, now under
+// its input's, the faerie's -4.4%), its 30 waves and grooves -1.84% (U
+// grooves -0.3% to -10.3%), the broad check's 36 -2.62% (the torus's U grooves
+// -14%), the real suite -0.50% (the person -1.9%, the disc -1.8%),
+// bench/quality -0.08%; the most a case rose, +0.37% (the broad torus's
+// waves; sydney's waves +0.28%, the real suite's knot +0.08%, bench/
+// quality's torus +0.10%): wave flanks whose transitional normals fall into
+// two groups. g = 3: the real suite -0.59%, bench/quality -0.15% with the
+// torus +0.19% (bench/quality_real_notes.md, session 36).
 #pragma once
 
 #include <cstddef>
@@ -206,6 +237,9 @@
 #include "detexture/types.h"
 
 namespace detexture {
+
+/// The most other facets KeepInputNormalsParams::facet_groups may allow.
+constexpr int kMaxFacetGroups = 8;
 
 struct KeepInputNormalsParams {
   /// The input normal is taken fully where nothing within ρ moved by more
@@ -262,6 +296,12 @@ struct KeepInputNormalsParams {
   double facet_jump = 3.0;
   /// t: at most this many such neighbors among the K; >= 0.
   int facet_transitional = 2;
+  /// g: more than t such neighbors are allowed where their input normals
+  /// lie on at most this many other facets (each within φ of one normal:
+  /// the far side of a shallow edge or the facets around a vertex, not a
+  /// gradual turn; see "Shallow edges" above); in [0, kMaxFacetGroups], 0
+  /// counts t alone (before session 36). Python keep_input_facet_groups.
+  int facet_groups = 2;
   /// α: where the surface stayed, ñ_i is taken only if some output normal
   /// within ρ lies within α ∠(ñ_i, n'_i) of it (the reach, below); in
   /// [0, 1), 0 reads the cone instead (before session 25).
