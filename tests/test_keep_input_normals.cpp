@@ -53,17 +53,19 @@ struct RoundedGrid {
   }
 };
 
-// The grid above folded by 20° at x = 0.05 into two facets, A (x <= 0,
-// z = 0, normal +z) and B (x >= 0.1), with exact input normals; output
-// normals rounded across the fold, tilted about y by 20° ·
-// clamp((x + 0.15) / 0.4, 0, 1).
+// The grid above folded by `fold` (20° unless given) at x = 0.05 into two
+// facets, A (x <= 0, z = 0, normal +z) and B (x >= 0.1), with exact input
+// normals; output normals rounded across the fold, tilted about y by
+// fold · clamp((x + 0.15) / 0.4, 0, 1).
 struct FoldedGrid {
   static constexpr int side = 21;
-  static constexpr double fold = 20.0 * M_PI / 180.0;
+  static constexpr double kFold = 20.0 * M_PI / 180.0;
+  double fold;
   Positions P;
   Neighborhoods R;
   Normals given, output;
-  FoldedGrid() : P(side * side, 3), given(side * side, 3), output(side * side, 3) {
+  explicit FoldedGrid(double fold_radians = kFold)
+      : fold(fold_radians), P(side * side, 3), given(side * side, 3), output(side * side, 3) {
     for (int i = 0; i < P.rows(); ++i) {
       const double x = -1.0 + 0.1 * (i % side);
       P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
@@ -291,7 +293,7 @@ TEST(KeepInputNormals, ExactInputNormalsAreTakenWhereTheSurfaceStayed) {
 // lie on one line).
 TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
   constexpr int side = FoldedGrid::side;
-  constexpr double fold = FoldedGrid::fold;
+  constexpr double fold = FoldedGrid::kFold;
   const double lambda = 0.01;
   const FoldedGrid grid;
   const Positions& P = grid.P;
@@ -384,33 +386,23 @@ TEST(KeepInputNormals, FacetsAreFoundPastTheirEdges) {
 // plane: taken with g >= 1 (the default 2), not with g = 0 (before session
 // 36).
 TEST(KeepInputNormals, ShallowEdgesAreFacets) {
-  constexpr int side = 21;
-  const double lambda = 0.01, fold = 2.0 * M_PI / 180.0;
-  Positions P(side * side, 3);
-  Normals given(side * side, 3), output(side * side, 3);
-  for (int i = 0; i < P.rows(); ++i) {
-    const double x = -1.0 + 0.1 * (i % side);
-    P.row(i) = Eigen::RowVector3d(x, -1.0 + 0.1 * (i / side),
-                                  x > 0.05 ? (x - 0.05) * std::tan(fold) : 0.0);
-    given.row(i) = x > 0.05 ? Eigen::RowVector3d(-std::sin(fold), 0.0, std::cos(fold))
-                            : Eigen::RowVector3d(0.0, 0.0, 1.0);
-    const double t = fold * std::clamp((x + 0.15) / 0.4, 0.0, 1.0);
-    output.row(i) = Eigen::RowVector3d(-std::sin(t), 0.0, std::cos(t));
-  }
-  const auto taken_x = [&](const Positions& Q, int groups) {
-    Positions updated = Q;
-    updated.col(1).array() += 0.5 * lambda;
+  constexpr int side = FoldedGrid::side;
+  const double lambda = 0.01;
+  const FoldedGrid grid(2.0 * M_PI / 180.0);
+  Positions updated = grid.P;
+  updated.col(1).array() += 0.5 * lambda;
+  const auto taken_x = [&](int groups) {
     KeepInputNormalsParams q = params_at(0.25, lambda);
     q.facet_groups = groups;
     const KeepInputNormalsResult r =
-        keep_input_normals(Q, updated, given, output, {}, radius_neighborhoods(Q, {0.3, 0}), q);
-    return taken_tenths(r, Q, given, output, 10 * side + 7, 10 * side + 14);
+        keep_input_normals(grid.P, updated, grid.given, grid.output, {}, grid.R, q);
+    return taken_tenths(r, grid.P, grid.given, grid.output, 10 * side + 7, 10 * side + 14);
   };
   ASSERT_EQ(KeepInputNormalsParams{}.facet_groups, 2);
   const std::vector<int> all{-3, -2, -1, 0, 1, 2, 3, 4};
-  EXPECT_EQ(taken_x(P, 2), all);
-  EXPECT_EQ(taken_x(P, 1), all);
-  EXPECT_EQ(taken_x(P, 0), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
+  EXPECT_EQ(taken_x(2), all);
+  EXPECT_EQ(taken_x(1), all);
+  EXPECT_EQ(taken_x(0), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
   // That the other facet must lie in its own normal's plane is what keeps
   // normals alternating by 2° over one plane out (the "turning" normals of
   // ExactInputNormalsAreTakenWhereTheSurfaceStayed and

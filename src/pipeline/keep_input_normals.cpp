@@ -144,13 +144,17 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
       params.facet_neighbors == 0 ? 0 : std::max(params.facet_neighbors, params.exact_neighbors);
   const auto flat_facet = [&](std::size_t i, const Eigen::RowVector3d& unit_given) {
     if (facet_neighbors == 0) return false;
+    // The other facets the transitional neighbors lie on, while there are
+    // at most g of them: each one's first input normal and point (the
+    // others within φ of that normal), and how far its points lie off that
+    // plane in all.
+    struct OtherFacet {
+      Eigen::RowVector3d normal, at;
+      double off = 0.0;
+      int size = 0;
+    };
+    std::array<OtherFacet, kMaxFacetGroups> other;
     int looked = 0, members = 0, transitional = 0, groups = 0;
-    // Per other facet the transitional neighbors lie on, while there are at
-    // most g of them: its first input normal and point (the others within φ
-    // of that normal), and how far its points lie off that plane in all.
-    std::array<Eigen::RowVector3d, kMaxFacetGroups> group, group_at;
-    std::array<double, kMaxFacetGroups> group_off{};
-    std::array<int, kMaxFacetGroups> group_size{};
     double sum = 0.0;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
@@ -166,17 +170,13 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
         ++transitional;
         if (groups <= params.facet_groups) {
           const Eigen::RowVector3d unit = g / norm;
-          int q = 0;
-          while (q < groups && std::abs(unit.dot(group[static_cast<std::size_t>(q)])) < uniform_cos)
-            ++q;
-          if (q < groups) {
-            const auto u = static_cast<std::size_t>(q);
-            group_off[u] += std::abs(group[u].dot(P.row(*nb) - group_at[u]));
-            ++group_size[u];
+          auto facet = other.begin(), last = other.begin() + groups;
+          while (facet != last && std::abs(unit.dot(facet->normal)) < uniform_cos) ++facet;
+          if (facet != last) {
+            facet->off += std::abs(facet->normal.dot(P.row(*nb) - facet->at));
+            ++facet->size;
           } else if (groups++ < params.facet_groups) {
-            group[static_cast<std::size_t>(q)] = unit;
-            group_at[static_cast<std::size_t>(q)] = P.row(*nb);
-            group_size[static_cast<std::size_t>(q)] = 1;
+            *facet = {unit, P.row(*nb), 0.0, 1};
           }
         }
         if (transitional > params.facet_transitional && groups > params.facet_groups) return false;
@@ -193,10 +193,8 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     // normal, as the far side of an edge does and noisy or alternating
     // normals over one plane do not.
     if (transitional > params.facet_transitional)
-      for (int q = 0; q < groups; ++q)
-        if (group_off[static_cast<std::size_t>(q)] >
-            max_residual * group_size[static_cast<std::size_t>(q)])
-          return false;
+      for (auto facet = other.begin(); facet != other.begin() + groups; ++facet)
+        if (facet->off > max_residual * facet->size) return false;
     mean /= members;
     const Eigen::Matrix3d cov = second / members - mean * mean.transpose();
     const Eigen::Vector3d spread =
