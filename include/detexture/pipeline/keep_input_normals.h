@@ -225,8 +225,9 @@
 // bench/quality -0.08%; the most a case rose, +0.37% (the broad torus's
 // waves; sydney's waves +0.28%, the real suite's knot +0.08%, bench/
 // quality's torus +0.10%): wave flanks whose transitional normals fall into
-// two groups. g = 3: the real suite -0.59%, bench/quality -0.15% with the
-// torus +0.19% (bench/quality_real_notes.md, session 36).
+// two groups. g = 3 (measured before the groups' flatness test): the
+// real suite -0.59%, bench/quality -0.15% with the torus +0.19%
+// (bench/quality_real_notes.md, session 36).
 #pragma once
 
 #include <cstddef>
