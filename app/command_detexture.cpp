@@ -679,6 +679,22 @@ int run_detexture(int argc, char** argv) {
                  "on a rounded facet), in [0, 1); 0 for the cone test instead (they turn as "
                  "much in any direction, before session 25)")
       ->capture_default_str();
+  app.add_option("--keep-input-reached-angle", params.keep_input.reached_angle_deg,
+                 "Output normals: an exact input normal no other test took is kept up to this "
+                 "angle of the fitted one (degrees, in [0, 90)) where some output normal within "
+                 "--solve-radius lies within --keep-input-reached-share of that angle of it "
+                 "(a thin part's facet the fit rounded, not a groove wall or a wave's flank); 0 "
+                 "for none (before session 37)")
+      ->capture_default_str();
+  app.add_option("--keep-input-reached-share", params.keep_input.reached_share,
+                 "Output normals: for --keep-input-reached-angle, the fraction of the input "
+                 "normal's angle to the fitted one within which some output normal around must "
+                 "lie, in (0, 1)")
+      ->capture_default_str();
+  app.add_flag("--keep-input-reached-engraved", params.keep_input.reached_engraved,
+               "Output normals: --keep-input-reached-angle also where the relief reads as "
+               "sparse engraving (see --counter-move-engraved-lean), whose flat groove walls "
+               "the earlier tests take in places");
   app.add_flag("!--keep-input-still-any-move", params.keep_input.still_facet_move,
                "Output normals: for --keep-input-still-angle the surface counts as stayed only "
                "where no point within --solve-radius moved by more than --keep-input-still-move "

@@ -308,6 +308,10 @@ DETEXTURE_VARIANTS = [
      "1-3°, even where they all lie on one other facet: points beside the shallow edges of "
      "low-poly models keep the fitted normal (keep_input_normals.h; the default before "
      "session 36)"),
+    ("reached-0", ["--keep-input-reached-angle", "0"],
+     "exact input normals that no other test took are not taken where the output normals "
+     "around reach them: the facets of thin parts the fit rounded keep the fitted normal "
+     "(keep_input_normals.h; the default before session 37)"),
     ("filtered-range", ["--fit-range-normals", "filtered"],
      "the output-normal fit's range weights read from the filtered normals instead of the "
      "input's (fit_normals_to_positions.h; the default before session 18)"),

@@ -198,7 +198,8 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   // kept, where nothing moved or exact, which would replace some).
   const std::string narrow =
       " -r 0.2 --blend-low 0 --blend-high 0.001 --blend-coherence 0 --blend-share-high 0"
-      " --keep-input-high 0 --keep-input-exact-angle 0 --keep-input-still-angle 0";
+      " --keep-input-high 0 --keep-input-exact-angle 0 --keep-input-still-angle 0"
+      " --keep-input-reached-angle 0";
   ASSERT_EQ(run(path("in.ply") + " -o " + path("narrow.ply") + narrow), 0) << stderr_;
   const PointCloud d = read_point_cloud(path("default.ply")),
                    b = read_point_cloud(path("blended.ply")),

@@ -519,6 +519,7 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   p.keep_input.high = 0.0;
   p.keep_input.exact_angle_deg = 0.0;
   p.keep_input.still_angle_deg = 0.0;
+  p.keep_input.reached_angle_deg = 0.0;
   const RemoveTextureResult on = remove_texture(torus.positions, Normals(), p);
   p.wave_share_low = 1.0;
   const RemoveTextureResult off = remove_texture(torus.positions, Normals(), p);
@@ -632,6 +633,7 @@ TEST(FitNormalsToPositions, RemoveTextureOptionChangesOnlyTheNormals) {
   p.keep_input.high = 0.0;  // the fit and its blend alone (test_keep_input_normals.cpp)
   p.keep_input.exact_angle_deg = 0.0;
   p.keep_input.still_angle_deg = 0.0;
+  p.keep_input.reached_angle_deg = 0.0;
   p.radius = Length{0.15, Length::Unit::Absolute};
   p.threads = 1;
   const RemoveTextureResult blended = remove_texture(s.P, Normals(), p);

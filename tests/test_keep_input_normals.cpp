@@ -13,10 +13,13 @@
 namespace detexture {
 namespace {
 
+// The tests of the earlier paths read them alone: the reach after them
+// (reached_angle_deg) would take more, and has its own test below.
 KeepInputNormalsParams params_at(double radius, double lambda) {
   KeepInputNormalsParams p;
   p.radius = radius;
   p.lambda = lambda;
+  p.reached_angle_deg = 0.0;
   return p;
 }
 
@@ -573,6 +576,71 @@ TEST(KeepInputNormals, AFacetBesideReliefThatMovedStayed) {
   EXPECT_EQ(taken_x(ball), (std::vector<int>{-3, -2, -1, 2, 3, 4}));
 }
 
+// Normals the output reaches: the rounded grid above, every point moved by
+// 3.5 λ (past μ λ: the surface did not stay), so the earlier tests take
+// +z only within θ = 4° (|x| <= 0.2, 2° at most). After them, x = ±0.3
+// (4.5°) is taken: x = ±0.1 within ρ = 0.25 has +z now, within α_r = 0.15
+// of the tilt. So is x = ±0.4 (8°), through x = ±0.2, taken before: the
+// fitted normal there (2°) is not within 1.2°. x = ±0.5 (12.5°) is not:
+// within ρ it has x = ±0.3 at 4.5° before the reach, and ±0.4 at 8°, not
+// within 1.875°. θ_r bounds the tilt (4.6°: x = ±0.3 alone); off, nothing
+// more. Not where no output normal nears the input's: the same input
+// normals under output normals tilted by 15° everywhere (a groove wall or
+// a wave's flank under the base the update left: nothing reaches +z).
+// Texture points as well, but not without texture_facets; none where the
+// relief reads as sparse engraving, unless reached_engraved.
+TEST(KeepInputNormals, NormalsTheOutputReachesAreTaken) {
+  constexpr int side = RoundedGrid::side;
+  const double lambda = 0.01;
+  const RoundedGrid grid;
+  const Positions& P = grid.P;
+  const Neighborhoods& R = grid.R;
+  const Normals& given = grid.given;
+  Positions updated = P;
+  updated.col(0).array() += 3.5 * lambda;
+  KeepInputNormalsParams p;
+  p.radius = 0.25;
+  p.lambda = lambda;
+  ASSERT_EQ(p.reached_angle_deg, 30.0);
+  ASSERT_EQ(p.reached_share, 0.15);
+  const auto run = [&](const Normals& in, const Normals& output,
+                       const std::vector<std::uint8_t>& texture, const KeepInputNormalsParams& q) {
+    return keep_input_normals(P, updated, in, output, texture, R, q);
+  };
+  const auto taken_x = [&](const KeepInputNormalsResult& r, const Normals& output) {
+    return taken_tenths(r, P, given, output, 10 * side, 10 * side + side - 1);
+  };
+  const KeepInputNormalsResult r = run(given, grid.output, {}, p);
+  EXPECT_EQ(taken_x(r, grid.output), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
+  EXPECT_EQ(r.reached, 4u * side);
+  EXPECT_EQ(r.kept, r.exact + r.reached);
+  KeepInputNormalsParams narrow = p;
+  narrow.reached_angle_deg = 4.6;
+  EXPECT_EQ(taken_x(run(given, grid.output, {}, narrow), grid.output),
+            (std::vector<int>{-3, -2, -1, 0, 1, 2, 3}));
+  KeepInputNormalsParams off = p;
+  off.reached_angle_deg = 0.0;
+  const KeepInputNormalsResult none = run(given, grid.output, {}, off);
+  EXPECT_EQ(taken_x(none, grid.output), (std::vector<int>{-2, -1, 0, 1, 2}));
+  EXPECT_EQ(none.reached, 0u);
+  // Output normals that nowhere near the input's.
+  Normals tilted(P.rows(), 3);
+  const double t = 15.0 * M_PI / 180.0;
+  tilted.rowwise() = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
+  EXPECT_EQ(run(given, tilted, {}, p).kept, 0u);
+  const std::vector<std::uint8_t> texture(P.rows(), 1);
+  EXPECT_EQ(run(given, grid.output, texture, p).reached, 4u * side);
+  KeepInputNormalsParams surface_only = p;
+  surface_only.texture_facets = false;
+  EXPECT_EQ(run(given, grid.output, texture, surface_only).kept, 0u);
+  KeepInputNormalsParams engraved = p;
+  engraved.engraved = true;
+  EXPECT_FALSE(engraved.reached_engraved);
+  EXPECT_EQ(run(given, grid.output, {}, engraved).reached, 0u);
+  engraved.reached_engraved = true;
+  EXPECT_EQ(run(given, grid.output, {}, engraved).reached, 4u * side);
+}
+
 TEST(KeepInputNormals, BadInputIsRefused) {
   const auto s = test::bumpy_plane(5, 0.0, 1.0);
   const Neighborhoods R = radius_neighborhoods(s.P, {0.3, 0});
@@ -659,6 +727,20 @@ TEST(KeepInputNormals, BadInputIsRefused) {
   EXPECT_THROW(validate(p), std::invalid_argument);
   p.still_reach = 0.0;  // the cone
   EXPECT_NO_THROW(validate(p));
+  p.reached_angle_deg = 90.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.reached_angle_deg = -1.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.reached_angle_deg = 0.0;  // off
+  EXPECT_NO_THROW(validate(p));
+  p.reached_share = 0.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.reached_share = 1.0;
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.reached_share = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(validate(p), std::invalid_argument);
+  p.reached_share = 0.5;
+  EXPECT_NO_THROW(validate(p));
   p = params_at(0.2, 0.01);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N.topRows(3), s.N, {}, R, p), std::invalid_argument);
   EXPECT_THROW(keep_input_normals(s.P, s.P, s.N, s.N, std::vector<std::uint8_t>(2, 0), R, p),
@@ -684,6 +766,7 @@ TEST(KeepInputNormals, RemoveTextureKeepsThemWhereTheSurfaceStayed) {
   const RemoveTextureResult kept = remove_texture(cube.positions, cube.normals, p);
   p.keep_input.exact_angle_deg = 0.0;
   p.keep_input.still_angle_deg = 0.0;
+  p.keep_input.reached_angle_deg = 0.0;
   const RemoveTextureResult by_move = remove_texture(cube.positions, cube.normals, p);
   p.keep_input.high = 0.0;
   const RemoveTextureResult fitted = remove_texture(cube.positions, cube.normals, p);

@@ -89,6 +89,15 @@ void validate(const KeepInputNormalsParams& p) {
         "the facet test's transitional count (KeepInputNormalsParams::facet_transitional, "
         "Python keep_input_facet_transitional) must be >= 0, got " +
         number_text(p.facet_transitional));
+  if (!(p.reached_angle_deg >= 0.0 && p.reached_angle_deg < 90.0))
+    throw std::invalid_argument(
+        "the angle within which exact input normals the output normals reach are taken "
+        "(--keep-input-reached-angle) must lie in [0, 90) degrees (0: off), got " +
+        number_text(p.reached_angle_deg));
+  if (!(p.reached_share > 0.0 && p.reached_share < 1.0))
+    throw std::invalid_argument(
+        "the reach of the output normals (--keep-input-reached-share) must lie in (0, 1), got " +
+        number_text(p.reached_share));
   if (p.facet_groups < 0 || p.facet_groups > kMaxFacetGroups)
     throw std::invalid_argument(
         "the facet test's number of other facets (--keep-input-facet-groups) must lie in [0, " +
@@ -110,8 +119,10 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
   KeepInputNormalsResult out;
   out.normals = normals;
   const bool by_move = params.high > 0.0, by_exactness = params.exact_angle_deg > 0.0,
-             by_stillness = params.still_angle_deg > 0.0;
-  if (!by_move && !by_exactness && !by_stillness) return out;
+             by_stillness = params.still_angle_deg > 0.0,
+             by_reach =
+                 params.reached_angle_deg > 0.0 && (!params.engraved || params.reached_engraved);
+  if (!by_move && !by_exactness && !by_stillness && !by_reach) return out;
   const double low = params.low * params.lambda, high = params.high * params.lambda;
   const double radius_sq = params.radius * params.radius;
   const double min_cos = std::cos(params.exact_angle_deg * M_PI / 180.0);
@@ -250,6 +261,8 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     }
     return true;
   };
+  // Points the tests below took (fully or in part), for the reach after them.
+  std::vector<std::uint8_t> taken(n, 0);
   std::size_t kept = 0, exact_kept = 0, still_kept = 0, facet_kept = 0, texture_kept = 0;
 #pragma omp parallel for schedule(dynamic, 256) \
     reduction(+ : kept, exact_kept, still_kept, facet_kept, texture_kept)
@@ -301,8 +314,41 @@ KeepInputNormalsResult keep_input_normals(const Positions& P, const Positions& u
     const double norm = mixed.norm();
     if (!(norm > 0.0)) continue;
     out.normals.row(i) = mixed / norm;
+    taken[i] = 1;
     ++kept;
   }
+  // The exact input normals the output normals reach (see the header),
+  // read from the normals above so that a facet partly taken reaches the
+  // rest of it, and written apart so that no point reads another's result.
+  std::size_t reached = 0;
+  if (by_reach) {
+    const Normals first = out.normals;
+    const double reached_cos = std::cos(params.reached_angle_deg * M_PI / 180.0);
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : reached)
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool texture = !is_texture.empty() && is_texture[i];
+      if (taken[i] || (texture && !params.texture_facets)) continue;
+      const Eigen::RowVector3d given = input_normals.row(i);
+      const Eigen::RowVector3d ni = normals.row(i);
+      if (given.squaredNorm() == 0.0 || !given.allFinite() || ni.squaredNorm() == 0.0) continue;
+      const Eigen::RowVector3d unit_given = given.normalized();
+      const double c = std::abs(unit_given.dot(ni.normalized()));
+      if (c < reached_cos || !exact(i, unit_given)) continue;
+      const double reach_cos = std::cos(params.reached_share * std::acos(std::min(1.0, c)));
+      bool reaches = false;
+      for (const std::uint32_t* nb = R.begin(i); nb != R.end(i) && !reaches; ++nb) {
+        if (*nb == i || (P.row(*nb) - P.row(i)).squaredNorm() > radius_sq) continue;
+        const Eigen::RowVector3d o = first.row(*nb);
+        const double norm = o.norm();
+        reaches = norm > 0.0 && std::abs(o.dot(unit_given)) >= reach_cos * norm;
+      }
+      if (!reaches) continue;
+      out.normals.row(i) = given.dot(ni) < 0.0 ? Eigen::RowVector3d(-unit_given) : unit_given;
+      ++reached;
+    }
+  }
+  kept += reached;
+  out.reached = reached;
   out.kept = kept;
   out.exact = exact_kept;
   out.still = still_kept;

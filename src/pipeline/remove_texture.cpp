@@ -589,7 +589,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     }
     filtered = std::move(fit.normals);
     if (params.keep_input.high > 0.0 || params.keep_input.exact_angle_deg > 0.0 ||
-        params.keep_input.still_angle_deg > 0.0) {
+        params.keep_input.still_angle_deg > 0.0 || params.keep_input.reached_angle_deg > 0.0) {
       StageClock clock(observer, rep, "keep input normals");
       KeepInputNormalsParams kp = params.keep_input;
       kp.radius = params.solve_radius.resolve(rep.diagonal, rep.radius);
