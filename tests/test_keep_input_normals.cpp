@@ -591,54 +591,50 @@ TEST(KeepInputNormals, AFacetBesideReliefThatMovedStayed) {
 // relief reads as sparse engraving, unless reached_engraved.
 TEST(KeepInputNormals, NormalsTheOutputReachesAreTaken) {
   constexpr int side = RoundedGrid::side;
-  const double lambda = 0.01;
   const RoundedGrid grid;
-  const Positions& P = grid.P;
-  const Neighborhoods& R = grid.R;
-  const Normals& given = grid.given;
-  Positions updated = P;
-  updated.col(0).array() += 3.5 * lambda;
   KeepInputNormalsParams p;
   p.radius = 0.25;
-  p.lambda = lambda;
+  p.lambda = 0.01;
+  Positions updated = grid.P;
+  updated.col(0).array() += 3.5 * p.lambda;
   ASSERT_EQ(p.reached_angle_deg, 30.0);
   ASSERT_EQ(p.reached_share, 0.15);
   const auto run = [&](const Normals& in, const Normals& output,
                        const std::vector<std::uint8_t>& texture, const KeepInputNormalsParams& q) {
-    return keep_input_normals(P, updated, in, output, texture, R, q);
+    return keep_input_normals(grid.P, updated, in, output, texture, grid.R, q);
   };
   const auto taken_x = [&](const KeepInputNormalsResult& r, const Normals& output) {
-    return taken_tenths(r, P, given, output, 10 * side, 10 * side + side - 1);
+    return taken_tenths(r, grid.P, grid.given, output, 10 * side, 10 * side + side - 1);
   };
-  const KeepInputNormalsResult r = run(given, grid.output, {}, p);
+  const KeepInputNormalsResult r = run(grid.given, grid.output, {}, p);
   EXPECT_EQ(taken_x(r, grid.output), (std::vector<int>{-4, -3, -2, -1, 0, 1, 2, 3, 4}));
   EXPECT_EQ(r.reached, 4u * side);
   EXPECT_EQ(r.kept, r.exact + r.reached);
   KeepInputNormalsParams narrow = p;
   narrow.reached_angle_deg = 4.6;
-  EXPECT_EQ(taken_x(run(given, grid.output, {}, narrow), grid.output),
+  EXPECT_EQ(taken_x(run(grid.given, grid.output, {}, narrow), grid.output),
             (std::vector<int>{-3, -2, -1, 0, 1, 2, 3}));
   KeepInputNormalsParams off = p;
   off.reached_angle_deg = 0.0;
-  const KeepInputNormalsResult none = run(given, grid.output, {}, off);
+  const KeepInputNormalsResult none = run(grid.given, grid.output, {}, off);
   EXPECT_EQ(taken_x(none, grid.output), (std::vector<int>{-2, -1, 0, 1, 2}));
   EXPECT_EQ(none.reached, 0u);
   // Output normals that nowhere near the input's.
-  Normals tilted(P.rows(), 3);
+  Normals tilted(grid.P.rows(), 3);
   const double t = 15.0 * M_PI / 180.0;
   tilted.rowwise() = Eigen::RowVector3d(std::sin(t), 0.0, std::cos(t));
-  EXPECT_EQ(run(given, tilted, {}, p).kept, 0u);
-  const std::vector<std::uint8_t> texture(P.rows(), 1);
-  EXPECT_EQ(run(given, grid.output, texture, p).reached, 4u * side);
+  EXPECT_EQ(run(grid.given, tilted, {}, p).kept, 0u);
+  const std::vector<std::uint8_t> texture(grid.P.rows(), 1);
+  EXPECT_EQ(run(grid.given, grid.output, texture, p).reached, 4u * side);
   KeepInputNormalsParams surface_only = p;
   surface_only.texture_facets = false;
-  EXPECT_EQ(run(given, grid.output, texture, surface_only).kept, 0u);
+  EXPECT_EQ(run(grid.given, grid.output, texture, surface_only).kept, 0u);
   KeepInputNormalsParams engraved = p;
   engraved.engraved = true;
   EXPECT_FALSE(engraved.reached_engraved);
-  EXPECT_EQ(run(given, grid.output, {}, engraved).reached, 0u);
+  EXPECT_EQ(run(grid.given, grid.output, {}, engraved).reached, 0u);
   engraved.reached_engraved = true;
-  EXPECT_EQ(run(given, grid.output, {}, engraved).reached, 4u * side);
+  EXPECT_EQ(run(grid.given, grid.output, {}, engraved).reached, 4u * side);
 }
 
 TEST(KeepInputNormals, BadInputIsRefused) {
