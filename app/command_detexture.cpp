@@ -734,6 +734,12 @@ int run_detexture(int argc, char** argv) {
                  "Waves left in the positions: from this share on, the flagged points are "
                  "anchored like texture (the lowering ramps up from --wave-share-low)")
       ->capture_default_str();
+  app.add_option("--wave-rest-anchor", params.wave_rest_anchor,
+                 "Waves left in the positions: in the update's second run, the other surface "
+                 "points are anchored with this factor (to the power of the same ramp), so the "
+                 "flanks beside the flagged crests follow the filtered normals too; in (0, 1], "
+                 "1 holds them fully (before session 38)")
+      ->capture_default_str();
   app.add_option("--blend-share-low", params.blend_share_low,
                  "Blended output normals: when the output-normal fit flags less than this "
                  "share of the surface points as lying on waves or grooves the update left, "

@@ -327,6 +327,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--wave-share-low 0.3 --wave-share-high 0.2",
                            "--wave-share-low -0.1",
                            "--wave-share-high 1.5",
+                           "--wave-rest-anchor 0",
+                           "--wave-rest-anchor 1.5",
                            "--blend-share-low 0.3 --blend-share-high 0.2",
                            "--blend-share-high 1.5",
                            "--blend-open-low 10 --blend-open-high 5",

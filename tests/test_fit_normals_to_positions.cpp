@@ -548,6 +548,38 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   EXPECT_THROW(remove_texture(s.P, Normals(), p), std::invalid_argument);
 }
 
+// Through remove_texture, the second pass's other surface points
+// (wave_rest_anchor): on the wavy torus, holding them less lowers the spread
+// of the output's heights over the base surface below what the flagged
+// points alone give (wave_rest_anchor 1, before session 38), with the same
+// flags and the same output normals. The factor must lie in (0, 1].
+TEST(FitNormalsToPositions, RemoveTextureHoldsTheWavesFlanksLessInTheSecondPass) {
+  const SynthesizedShape torus = test::wavy_torus();
+  RemoveTextureParams p = test::wavy_torus_params();
+  p.keep_input.high = 0.0;
+  p.keep_input.exact_angle_deg = 0.0;
+  p.keep_input.still_angle_deg = 0.0;
+  p.keep_input.reached_angle_deg = 0.0;
+  ASSERT_EQ(p.wave_rest_anchor, 0.3);
+  const RemoveTextureResult rest = remove_texture(torus.positions, Normals(), p);
+  p.wave_rest_anchor = 1.0;
+  const RemoveTextureResult flagged_only = remove_texture(torus.positions, Normals(), p);
+  ASSERT_GT(rest.report.waves_released, 0u);
+  EXPECT_EQ(rest.report.waves_released, flagged_only.report.waves_released);
+  const auto spread = [&](const Positions& Q) {
+    Eigen::VectorXd h(Q.rows());
+    for (int i = 0; i < Q.rows(); ++i)
+      h(i) = (Q.row(i) - torus.base_positions.row(i)).dot(torus.base_normals.row(i));
+    return std::sqrt((h.array() - h.mean()).square().mean());
+  };
+  EXPECT_LT(spread(rest.positions), 0.97 * spread(flagged_only.positions));
+  EXPECT_TRUE(rest.normals == flagged_only.normals) << "the output normals are the first pass's";
+  for (double bad : {0.0, -0.5, 1.5}) {
+    p.wave_rest_anchor = bad;
+    EXPECT_THROW(remove_texture(torus.positions, Normals(), p), std::invalid_argument) << bad;
+  }
+}
+
 // Through remove_texture, the blend's gate: synth's cube with bumps (20k
 // points, default parameters) flags almost no waves (under blend_share_low),
 // so its output normals are the open window's, the same as the blend with

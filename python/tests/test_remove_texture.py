@@ -283,6 +283,16 @@ def test_wave_share_matches_the_command_line(work):
     assert np.array_equal(fit_on.normals, fit_off.normals)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)
+    # The other surface points of the second pass (wave_rest_anchor): held
+    # fully at 1, the same from Python and from the command line.
+    assert detexture.default_parameters()["wave_rest_anchor"] == 0.3
+    held = work / "torus_waves_held.ply"
+    run_cli(torus, "-o", held, "-r", "0.06", "--wave-rest-anchor", "1", "-q", "--force")
+    full = detexture.remove_texture(cloud, radius=0.06, wave_rest_anchor=1.0)
+    assert np.array_equal(detexture.read_point_cloud(held).positions, full.positions)
+    assert not np.array_equal(on.positions, full.positions)
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.06, wave_rest_anchor=0.0)
 
 
 def default_and_option(cube, work, cli_args, **option):

@@ -102,6 +102,9 @@ void validate(const RemoveTextureParams& p) {
         "the shares of the waves' second pass (--wave-share-low, --wave-share-high) must be in "
         "[0, 1], got " +
         number_text(p.wave_share_low) + " and " + number_text(p.wave_share_high));
+  if (!(p.wave_rest_anchor > 0.0 && p.wave_rest_anchor <= 1.0))
+    throw std::invalid_argument("--wave-rest-anchor must be in (0, 1], got " +
+                                number_text(p.wave_rest_anchor));
   if (p.wave_share_low < 1.0 && !(p.wave_share_low < p.wave_share_high))
     throw std::invalid_argument("the waves' second pass needs --wave-share-low (" +
                                 number_text(p.wave_share_low) + ") below --wave-share-high (" +
@@ -559,13 +562,16 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       if (t > 0.0 && up.anchor_surface > up.anchor_texture) {
         StageClock clock(observer, rep, "update positions, waves");
         const float factor = static_cast<float>(std::pow(up.anchor_texture / up.anchor_surface, t));
+        // The other surface points are held less too (wave_rest_anchor),
+        // the texture points as in the first pass.
+        const float rest = static_cast<float>(std::pow(params.wave_rest_anchor, t));
         std::vector<float> scale(n, 1.0f);
         std::vector<std::uint8_t> released(n, 0);
-        for (std::size_t i = 0; i < n; ++i)
-          if (!result.is_texture[i] && fit.waves[i]) {
-            scale[i] = factor;
-            released[i] = 1;
-          }
+        for (std::size_t i = 0; i < n; ++i) {
+          if (result.is_texture[i]) continue;
+          released[i] = fit.waves[i] != 0;
+          scale[i] = released[i] ? factor : rest;
+        }
         rep.waves_released = flagged;
         keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
                                      result.input_normals, scale, up, clock.progress()),
