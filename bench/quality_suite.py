@@ -263,6 +263,10 @@ DETEXTURE_VARIANTS = [
     ("no-wave-release", ["--wave-share-low", "1"],
      "no second update where waves stayed in the positions: their crests and troughs, "
      "labelled surface, keep their anchors (remove_texture.h; the default before session 14)"),
+    ("wave-rest-held", ["--wave-rest-anchor", "1"],
+     "the second update over waves lowers the anchors of the flagged points alone: the flanks "
+     "and crests beside them stay held at their input heights (remove_texture.h; the default "
+     "before session 38)"),
     ("blend-everywhere", ["--blend-share-high", "0"],
      "output normals blended with the narrow window (1-2°) on every cloud, also where no "
      "waves are left (fit_normals_to_positions.h; the default before session 15)"),
