@@ -504,6 +504,27 @@ TEST(FitNormalsToPositions, WavesLeftAreFlaggedAtTheirCrestsAndTroughs) {
   EXPECT_THROW(fit_normals_to_positions(s.P, guide, R, p), std::invalid_argument);
 }
 
+// The wavy torus's parameters with the fit's normals alone: the input
+// normals kept afterwards follow the final positions (keep_input_normals.h),
+// which the second pass moves.
+RemoveTextureParams wavy_torus_fit_only_params() {
+  RemoveTextureParams p = test::wavy_torus_params();
+  p.keep_input.high = 0.0;
+  p.keep_input.exact_angle_deg = 0.0;
+  p.keep_input.still_angle_deg = 0.0;
+  p.keep_input.reached_angle_deg = 0.0;
+  return p;
+}
+
+// The spread (standard deviation) of Q's heights over the shape's base
+// surface, along the base normals: the waves left in the positions.
+double spread_over_base(const SynthesizedShape& shape, const Positions& Q) {
+  Eigen::VectorXd h(Q.rows());
+  for (int i = 0; i < Q.rows(); ++i)
+    h(i) = (Q.row(i) - shape.base_positions.row(i)).dot(shape.base_normals.row(i));
+  return std::sqrt((h.array() - h.mean()).square().mean());
+}
+
 // Through remove_texture, the second pass: a torus with dense waves (synth's,
 // 0.04 wide and 0.016 high, 30k points; r = 1.5 × 0.04) flags more than
 // wave_share_high of its surface points, and keeps less of its waves than
@@ -513,13 +534,7 @@ TEST(FitNormalsToPositions, WavesLeftAreFlaggedAtTheirCrestsAndTroughs) {
 // first pass made it.
 TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   const SynthesizedShape torus = test::wavy_torus();
-  RemoveTextureParams p = test::wavy_torus_params();
-  // The fit's normals alone: the input normals kept afterwards follow the
-  // final positions (keep_input_normals.h), which the second pass moves.
-  p.keep_input.high = 0.0;
-  p.keep_input.exact_angle_deg = 0.0;
-  p.keep_input.still_angle_deg = 0.0;
-  p.keep_input.reached_angle_deg = 0.0;
+  RemoveTextureParams p = wavy_torus_fit_only_params();
   const RemoveTextureResult on = remove_texture(torus.positions, Normals(), p);
   p.wave_share_low = 1.0;
   const RemoveTextureResult off = remove_texture(torus.positions, Normals(), p);
@@ -528,13 +543,7 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   const std::size_t surface = on.positions.rows() - on.report.texture_points;
   EXPECT_GT(on.report.waves_flagged, static_cast<std::size_t>(p.wave_share_high * surface));
   EXPECT_EQ(on.report.waves_released, on.report.waves_flagged);
-  const auto spread = [&](const Positions& Q) {
-    Eigen::VectorXd h(Q.rows());
-    for (int i = 0; i < Q.rows(); ++i)
-      h(i) = (Q.row(i) - torus.base_positions.row(i)).dot(torus.base_normals.row(i));
-    return std::sqrt((h.array() - h.mean()).square().mean());
-  };
-  EXPECT_LT(spread(on.positions), 0.92 * spread(off.positions));
+  EXPECT_LT(spread_over_base(torus, on.positions), 0.92 * spread_over_base(torus, off.positions));
   EXPECT_TRUE(on.normals == off.normals) << "the output normals are the first pass's";
   // A sphere with bumps: few flags, no second pass, the same output.
   const auto s = sphere_with_bumps();
@@ -555,24 +564,15 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
 // flags and the same output normals. The factor must lie in (0, 1].
 TEST(FitNormalsToPositions, RemoveTextureHoldsTheWavesFlanksLessInTheSecondPass) {
   const SynthesizedShape torus = test::wavy_torus();
-  RemoveTextureParams p = test::wavy_torus_params();
-  p.keep_input.high = 0.0;
-  p.keep_input.exact_angle_deg = 0.0;
-  p.keep_input.still_angle_deg = 0.0;
-  p.keep_input.reached_angle_deg = 0.0;
+  RemoveTextureParams p = wavy_torus_fit_only_params();
   ASSERT_EQ(p.wave_rest_anchor, 0.3);
   const RemoveTextureResult rest = remove_texture(torus.positions, Normals(), p);
   p.wave_rest_anchor = 1.0;
   const RemoveTextureResult flagged_only = remove_texture(torus.positions, Normals(), p);
   ASSERT_GT(rest.report.waves_released, 0u);
   EXPECT_EQ(rest.report.waves_released, flagged_only.report.waves_released);
-  const auto spread = [&](const Positions& Q) {
-    Eigen::VectorXd h(Q.rows());
-    for (int i = 0; i < Q.rows(); ++i)
-      h(i) = (Q.row(i) - torus.base_positions.row(i)).dot(torus.base_normals.row(i));
-    return std::sqrt((h.array() - h.mean()).square().mean());
-  };
-  EXPECT_LT(spread(rest.positions), 0.97 * spread(flagged_only.positions));
+  EXPECT_LT(spread_over_base(torus, rest.positions),
+            0.97 * spread_over_base(torus, flagged_only.positions));
   EXPECT_TRUE(rest.normals == flagged_only.normals) << "the output normals are the first pass's";
   for (double bad : {0.0, -0.5, 1.5}) {
     p.wave_rest_anchor = bad;
