@@ -553,7 +553,8 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       share = surface ? static_cast<double>(flagged) / surface : 0.0;
     }
     // Waves left in the positions (remove_texture.h, wave_share_low): run
-    // the update again with the flagged points' anchors lowered, from the
+    // the update again with the flagged points' anchors lowered to the
+    // texture's and the other surface points' by wave_rest_anchor, from the
     // same filtered normals; the output normals stay the first pass's.
     if (up.mode == UpdateMode::Global && share >= 0.0) {
       const double t = params.wave_share_low < 1.0
@@ -562,8 +563,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       if (t > 0.0 && up.anchor_surface > up.anchor_texture) {
         StageClock clock(observer, rep, "update positions, waves");
         const float factor = static_cast<float>(std::pow(up.anchor_texture / up.anchor_surface, t));
-        // The other surface points are held less too (wave_rest_anchor),
-        // the texture points as in the first pass.
+        // Texture points keep the first pass's anchors.
         const float rest = static_cast<float>(std::pow(params.wave_rest_anchor, t));
         std::vector<float> scale(n, 1.0f);
         std::vector<std::uint8_t> released(n, 0);
