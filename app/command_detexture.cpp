@@ -740,6 +740,11 @@ int run_detexture(int argc, char** argv) {
                  "flanks beside the flagged crests follow the filtered normals too; in (0, 1], "
                  "1 holds them fully (before session 38)")
       ->capture_default_str();
+  app.add_option("--wave-ceiling", params.wave_ceiling,
+                 "Waves left in the positions: in the update's second run, a point in the upper "
+                 "half of its relief moves outward by at most this many lambda (one in the "
+                 "lower half inward); 0 turns this off (before session 39)")
+      ->capture_default_str();
   app.add_option("--blend-share-low", params.blend_share_low,
                  "Blended output normals: when the output-normal fit flags less than this "
                  "share of the surface points as lying on waves or grooves the update left, "

@@ -267,6 +267,10 @@ DETEXTURE_VARIANTS = [
      "the second update over waves lowers the anchors of the flagged points alone: the flanks "
      "and crests beside them stay held at their input heights (remove_texture.h; the default "
      "before session 38)"),
+    ("wave-unceiled", ["--wave-ceiling", "0"],
+     "the second update over waves without the ceiling: crests in the upper half of their "
+     "relief may move outward (troughs inward) by more than λ (limit_tip_moves.h; the default "
+     "before session 39)"),
     ("blend-everywhere", ["--blend-share-high", "0"],
      "output normals blended with the narrow window (1-2°) on every cloud, also where no "
      "waves are left (fit_normals_to_positions.h; the default before session 15)"),

@@ -74,7 +74,7 @@ def parse(path, docs, members):
 
 FILLED_FROM_ABOVE = {"update.max_move", "output_normals.sigma", "texture.surface_normals",
                      "keep_input.radius", "keep_input.lambda", "keep_input.engraved", "counter_moves.height",
-                     "tips.radius", "tips.lambda", "sinks.height", "sinks.radius",
+                     "tips.radius", "tips.lambda", "tips.ceiling", "sinks.height", "sinks.radius",
                      "sinks.lambda", "raised_cells.min_lean", "raised_cells.min_share",
                      "raised_cells.radius", "raised_cells.height"}
 # Parameter structs whose members become Python keywords: remove_texture's,

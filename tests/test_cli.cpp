@@ -329,6 +329,8 @@ TEST_F(Cli, BadParametersAreUsageErrors) {
                            "--wave-share-high 1.5",
                            "--wave-rest-anchor 0",
                            "--wave-rest-anchor 1.5",
+                           "--wave-ceiling -1",
+                           "--wave-ceiling inf",
                            "--blend-share-low 0.3 --blend-share-high 0.2",
                            "--blend-share-high 1.5",
                            "--blend-open-low 10 --blend-open-high 5",

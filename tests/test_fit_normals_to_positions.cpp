@@ -580,6 +580,51 @@ TEST(FitNormalsToPositions, RemoveTextureHoldsTheWavesFlanksLessInTheSecondPass)
   }
 }
 
+// Through remove_texture, the second pass's ceiling (wave_ceiling): on the
+// wavy torus, with the ceiling (1 λ, the default) the second pass cuts some
+// outward moves of crests and inward moves of troughs; with it off (0,
+// before session 39) nothing is limited. The points that differ differ
+// along their input normals and end nearer the base surface (in the sum of
+// their distances), and the spread of the heights stays within 1% (the
+// texture removed stays removed). Without the second pass (wave_share_low
+// 1), the ceiling changes nothing. Negative or infinite values are refused.
+TEST(FitNormalsToPositions, RemoveTextureCeilsTheSecondPassesMoves) {
+  const SynthesizedShape torus = test::wavy_torus();
+  RemoveTextureParams p = wavy_torus_fit_only_params();
+  ASSERT_EQ(p.wave_ceiling, 1.0);
+  const RemoveTextureResult ceiled = remove_texture(torus.positions, Normals(), p);
+  p.wave_ceiling = 0.0;
+  const RemoveTextureResult free = remove_texture(torus.positions, Normals(), p);
+  ASSERT_GT(ceiled.report.waves_released, 0u);
+  EXPECT_GT(ceiled.report.tip_moves_limited, 50u);
+  EXPECT_EQ(free.report.tip_moves_limited, 0u);
+  const auto off_base = [&](const Positions& Q, int i) {
+    return std::abs((Q.row(i) - torus.base_positions.row(i)).dot(torus.base_normals.row(i)));
+  };
+  std::size_t differ = 0;
+  double off_ceiled = 0.0, off_free = 0.0;
+  for (int i = 0; i < torus.positions.rows(); ++i) {
+    const Eigen::RowVector3d d = ceiled.positions.row(i) - free.positions.row(i);
+    if (d.norm() == 0.0) continue;
+    ++differ;
+    EXPECT_GT(std::abs(d.dot(ceiled.input_normals.row(i))), 0.999 * d.norm()) << i;
+    off_ceiled += off_base(ceiled.positions, i);
+    off_free += off_base(free.positions, i);
+  }
+  EXPECT_GT(differ, 50u);
+  EXPECT_LT(off_ceiled, 0.97 * off_free);
+  EXPECT_LT(spread_over_base(torus, ceiled.positions),
+            1.01 * spread_over_base(torus, free.positions));
+  p.wave_share_low = 1.0;
+  const RemoveTextureResult once = remove_texture(torus.positions, Normals(), p);
+  p.wave_ceiling = 1.0;
+  EXPECT_TRUE(remove_texture(torus.positions, Normals(), p).positions == once.positions);
+  for (double bad : {-0.5, double(INFINITY)}) {
+    p.wave_ceiling = bad;
+    EXPECT_THROW(remove_texture(torus.positions, Normals(), p), std::invalid_argument) << bad;
+  }
+}
+
 // Through remove_texture, the blend's gate: synth's cube with bumps (20k
 // points, default parameters) flags almost no waves (under blend_share_low),
 // so its output normals are the open window's, the same as the blend with

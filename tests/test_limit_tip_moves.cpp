@@ -139,6 +139,74 @@ TEST(LimitTipMoves, DepthZeroTurnsItOff) {
   EXPECT_EQ(r.positions, Q);
 }
 
+// The ceiling (c = 1, 0.1) on a cone too shallow for a tip (its lowest
+// neighbor 0.05 √2 = 0.07 below, under depth λ 0.2; depth 0 gives the same):
+// the top lies in the upper half of its relief (hi 0, lo -0.07), so it
+// moves out by at most 0.1 and in freely; a move out under 0.1 stays.
+TEST(LimitTipMoves, TheCeilingHoldsTheUpperHalfsOutwardMoves) {
+  const Cone c = cone(0.05);
+  for (const double depth : {2.0, 0.0}) {
+    LimitTipMovesParams p = params();
+    p.depth = depth;
+    ASSERT_EQ(limit_tip_moves(c.P, moved(c.P, 0.0, 0.3), c.N, c.R, p).limited, 0u);
+    p.ceiling = 1.0;
+    const LimitTipMovesResult out = limit_tip_moves(c.P, moved(c.P, 0.05, 0.3), c.N, c.R, p);
+    EXPECT_EQ(out.limited, 1u) << depth;
+    EXPECT_NEAR(out.positions(12, 2), 0.1, 1e-15) << depth;
+    EXPECT_EQ(out.positions(12, 0), 0.05) << depth;
+    for (const double dz : {-0.3, 0.08}) {
+      const Positions Q = moved(c.P, 0.0, dz);
+      const LimitTipMovesResult free = limit_tip_moves(c.P, Q, c.N, c.R, p);
+      EXPECT_EQ(free.limited, 0u) << depth << " " << dz;
+      EXPECT_EQ(free.positions, Q) << depth << " " << dz;
+    }
+  }
+}
+
+// Upside down (a shallow pit), the bottom lies in the lower half: it moves
+// in by at most 0.1 and out freely. With -z normals on the cone, the top is
+// the lower half of its relief, and the answer is the same as with +z.
+TEST(LimitTipMoves, TheCeilingHoldsTheLowerHalfsInwardMovesForEitherSign) {
+  LimitTipMovesParams p = params();
+  p.ceiling = 1.0;
+  const Cone pit = cone(-0.05);
+  EXPECT_NEAR(limit_tip_moves(pit.P, moved(pit.P, 0.0, -0.3), pit.N, pit.R, p).positions(12, 2),
+              -0.1, 1e-15);
+  EXPECT_EQ(limit_tip_moves(pit.P, moved(pit.P, 0.0, 0.3), pit.N, pit.R, p).limited, 0u);
+  Cone top = cone(0.05);
+  top.N.col(2).setConstant(-1.0);
+  const LimitTipMovesResult r = limit_tip_moves(top.P, moved(top.P, 0.0, 0.3), top.N, top.R, p);
+  EXPECT_EQ(r.limited, 1u);
+  EXPECT_NEAR(r.positions(12, 2), 0.1, 1e-15);
+}
+
+// A thin plate: a flat 5 x 5 sheet (normals +z) over a second one 0.5
+// below (normals -z). The top sheet's centre has the bottom sheet within
+// ρ, but their normals disagree (n_j·n_i = -1 < 0.5): its relief is flat,
+// neither half, and its move out stays. Counting every neighbor
+// (ceiling_min_cos -1) would put it in the upper half and cut it to 0.1.
+// The tips are off (depth 0): they count every neighbor and would make
+// the centre a peak.
+TEST(LimitTipMoves, TheCeilingIgnoresTheOtherSideOfAThinPart) {
+  const Cone sheet = cone(0.0);
+  Positions P(50, 3);
+  Normals N(50, 3);
+  P << sheet.P, sheet.P;
+  P.bottomRows(25).col(2).setConstant(-0.5);
+  N << sheet.N, -sheet.N;
+  const Neighborhoods R = radius_neighborhoods(P, {1.5, 0});
+  Positions Q = P;
+  Q(12, 2) = 0.3;
+  LimitTipMovesParams p = params();
+  p.depth = 0.0;
+  p.ceiling = 1.0;
+  const LimitTipMovesResult r = limit_tip_moves(P, Q, N, R, p);
+  EXPECT_EQ(r.limited, 0u);
+  EXPECT_EQ(r.positions, Q);
+  p.ceiling_min_cos = -1.0;
+  EXPECT_NEAR(limit_tip_moves(P, Q, N, R, p).positions(12, 2), 0.1, 1e-15);
+}
+
 TEST(LimitTipMoves, RejectsBadParametersAndSizes) {
   const Cone c = cone(0.5);
   auto with = [](auto change) {
@@ -150,7 +218,12 @@ TEST(LimitTipMoves, RejectsBadParametersAndSizes) {
                                        with([](LimitTipMovesParams& p) { p.slack = -0.5; }),
                                        with([](LimitTipMovesParams& p) { p.slack = std::nan(""); }),
                                        with([](LimitTipMovesParams& p) { p.radius = 0.0; }),
-                                       with([](LimitTipMovesParams& p) { p.lambda = 0.0; })})
+                                       with([](LimitTipMovesParams& p) { p.lambda = 0.0; }),
+                                       with([](LimitTipMovesParams& p) { p.ceiling = -1.0; }),
+                                       with([](LimitTipMovesParams& p) { p.ceiling = INFINITY; }),
+                                       with([](LimitTipMovesParams& p) {
+                                         p.ceiling_min_cos = 1.5;
+                                       })})
     EXPECT_THROW(limit_tip_moves(c.P, c.P, c.N, c.R, p), std::invalid_argument);
   const Positions fewer = c.P.topRows(24);
   EXPECT_THROW(limit_tip_moves(c.P, fewer, c.N, c.R, params()), std::invalid_argument);

@@ -293,6 +293,17 @@ def test_wave_share_matches_the_command_line(work):
     assert not np.array_equal(on.positions, full.positions)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_rest_anchor=0.0)
+    # The second pass's ceiling (wave_ceiling): off at 0, the same from
+    # Python and from the command line.
+    assert detexture.default_parameters()["wave_ceiling"] == 1.0
+    unceiled = work / "torus_waves_unceiled.ply"
+    run_cli(torus, "-o", unceiled, "-r", "0.06", "--wave-ceiling", "0", "-q", "--force")
+    free = detexture.remove_texture(cloud, radius=0.06, wave_ceiling=0.0)
+    assert np.array_equal(detexture.read_point_cloud(unceiled).positions, free.positions)
+    assert not np.array_equal(on.positions, free.positions)
+    assert on.report.tip_moves_limited > free.report.tip_moves_limited
+    with pytest.raises(ValueError):
+        detexture.remove_texture(cloud, radius=0.06, wave_ceiling=-1.0)
 
 
 def default_and_option(cube, work, cli_args, **option):
@@ -602,17 +613,19 @@ def test_sink_moves_match_the_command_line(work):
 def test_tip_moves_match_the_command_line(work):
     """The tops and bottoms of the relief do not end past their neighbors
     (limit_tip_moves.h): on a sphere with U grooves some groove floors are
-    held; tips_depth = 0 turns it off; the same from Python and from the
-    command line, whose --stats reports the count."""
+    held; tips_depth = 0 turns it off (with wave_ceiling = 0, the ceiling
+    on the waves' second pass, which the grooves run); the same from Python
+    and from the command line, whose --stats reports the count."""
     d = detexture.default_parameters()
     assert (d["tips_depth"], d["tips_slack"]) == (2.0, 1.0)
-    assert "tips_radius" not in d and "tips_lambda" not in d
+    assert "tips_radius" not in d and "tips_lambda" not in d and "tips_ceiling" not in d
+    assert d["tips_ceiling_min_cos"] == 0.5
     sphere = work / "sphere_u_grooves.ply"
     run_cli("synth", "--shape", "sphere", "--texture", "u-grooves", "-n", "20000",
             "--ground-truth-points", "100", "--seed", "1", "-o", sphere)
     cloud = detexture.read_point_cloud(sphere)
     held = detexture.remove_texture(cloud)
-    free = detexture.remove_texture(cloud, tips_depth=0.0)
+    free = detexture.remove_texture(cloud, tips_depth=0.0, wave_ceiling=0.0)
     assert held.report.tip_moves_limited > 10 and free.report.tip_moves_limited == 0
     assert not np.array_equal(held.positions, free.positions)
     out, stats = work / "sphere_u_grooves_held.ply", work / "sphere_u_grooves_held.json"
@@ -620,7 +633,7 @@ def test_tip_moves_match_the_command_line(work):
     assert np.array_equal(detexture.read_point_cloud(out).positions, held.positions)
     assert json.loads(stats.read_text())["tip_moves_limited"] == held.report.tip_moves_limited
     out = work / "sphere_u_grooves_free.ply"
-    run_cli(sphere, "-o", out, "--tip-depth", "0", "-q", "--force")
+    run_cli(sphere, "-o", out, "--tip-depth", "0", "--wave-ceiling", "0", "-q", "--force")
     assert np.array_equal(detexture.read_point_cloud(out).positions, free.positions)
     with pytest.raises(ValueError, match="tip-depth"):
         detexture.remove_texture(cloud, tips_depth=-1.0)

@@ -105,6 +105,8 @@ void validate(const RemoveTextureParams& p) {
   if (!(p.wave_rest_anchor > 0.0 && p.wave_rest_anchor <= 1.0))
     throw std::invalid_argument("--wave-rest-anchor must be in (0, 1], got " +
                                 number_text(p.wave_rest_anchor));
+  if (!(p.wave_ceiling >= 0.0) || !std::isfinite(p.wave_ceiling))
+    throw std::invalid_argument("--wave-ceiling must be >= 0, got " + number_text(p.wave_ceiling));
   if (p.wave_share_low < 1.0 && !(p.wave_share_low < p.wave_share_high))
     throw std::invalid_argument("the waves' second pass needs --wave-share-low (" +
                                 number_text(p.wave_share_low) + ") below --wave-share-high (" +
@@ -483,6 +485,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
   LimitTipMovesParams tp = params.tips;
   tp.radius = up.solve_radius;
   tp.lambda = rep.lambda;
+  tp.ceiling = 0.0;  // the waves' second pass alone sets it (wave_ceiling)
   LimitSinkMovesParams sp = params.sinks;
   sp.radius = up.solve_radius;
   sp.lambda = rep.lambda;
@@ -573,6 +576,7 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
           scale[i] = released[i] ? factor : rest;
         }
         rep.waves_released = flagged;
+        tp.ceiling = params.wave_ceiling;
         keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
                                      result.input_normals, scale, up, clock.progress()),
                     released);

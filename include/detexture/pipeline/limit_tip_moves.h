@@ -31,6 +31,23 @@
 // groove floors wider than ρ alone: a tip test without it held the floors
 // of pits and the caps of domes (the plane with domes: residual texture ×400,
 // measured offline on session 25's outputs).
+//
+// The ceiling (session 39; off unless `ceiling` > 0, which remove_texture
+// sets for the waves' second pass alone): the relief is read again over the
+// neighbors whose input normals agree with n_i (n_j·n_i >= min_cos), giving
+// hi'_i and lo'_i, and
+//
+//   upper half: -lo'_i > hi'_i    t_i > c λ   becomes  c λ
+//   lower half:  hi'_i > -lo'_i   t_i < -c λ  becomes -c λ
+//
+// with c = ceiling. A point nearer the top of its relief than its bottom
+// is a crest or a crest's flank: removing the relief moves it inward, and
+// more than c λ outward only where the filtered normals bridge a bend
+// (the rim of a thin part, a concave junction) and the second pass's low
+// anchors let it follow them. The lower half is the same upside down, so
+// the rule holds for either sign of n. Neighbors whose normals disagree are
+// the other side of a thin part, whose heights would place every point in
+// the upper half. Measured (bench/quality_real_notes.md, session 39).
 #pragma once
 
 #include <cstddef>
@@ -53,11 +70,19 @@ struct LimitTipMovesParams {
   double radius = 0.0;
   /// λ in the cloud's units; > 0. RemoveTextureParams fills it.
   double lambda = 0.0;
+  /// c: how far a point in the upper half of its relief may move outward
+  /// (and one in the lower half inward), in units of λ; >= 0, 0 turns the
+  /// ceiling off. RemoveTextureParams fills it in the waves' second pass
+  /// (wave_ceiling) and leaves it 0 otherwise.
+  double ceiling = 0.0;
+  /// The cosine a neighbor's input normal must reach with n_i for its
+  /// height to count in the ceiling's relief; in [-1, 1].
+  double ceiling_min_cos = 0.5;
 };
 
 struct LimitTipMovesResult {
   Positions positions;      ///< #P by 3
-  std::size_t limited = 0;  ///< tips whose move was cut
+  std::size_t limited = 0;  ///< points whose move was cut (tips and ceiling)
 };
 
 void validate(const LimitTipMovesParams& params);
@@ -65,7 +90,8 @@ void validate(const LimitTipMovesParams& params);
 /// P  #P by 3 input positions p
 /// updated  #P by 3 updated positions p'
 /// normals  #P by 3 unit input normals n (oriented or not: the tests are
-///   symmetric under n -> -n)
+///   symmetric under n -> -n; the ceiling's agreement test needs them
+///   oriented consistently between neighbors)
 /// R  the neighborhoods; only neighbors within ρ count
 /// Throws std::invalid_argument on bad parameters or mismatched sizes.
 /// Deterministic for any thread count.

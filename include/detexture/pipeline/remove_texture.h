@@ -324,6 +324,15 @@ struct RemoveTextureParams {
   /// and the epileptic's waves 1.77 -> 1.98 ×; 0.01, -11.2% and four more.
   /// In (0, 1]; 1 holds them fully (before session 38).
   double wave_rest_anchor = 0.3;
+  /// Waves left, second pass: a point in the upper half of its input relief
+  /// within the solve radius moves outward by at most wave_ceiling λ, and
+  /// one in the lower half inward by at most as much (limit_tip_moves.h,
+  /// the ceiling). Why: with the anchors lowered, crests on the rims of thin
+  /// parts and at concave junctions follow the filtered normals outward
+  /// across the bend; the spot check's largest distances from the
+  /// underlying surface came from them (bench/quality_real_notes.md,
+  /// sessions 38 and 39). >= 0; 0 turns it off (before session 39).
+  double wave_ceiling = 1.0;
   /// Output normals where no waves are left (clouds, with fit_normals and
   /// the blend). The blend keeps the filtered normals where the fit departs
   /// from them by a mean angle ā over 2°, against waves or grooves left in
