@@ -557,19 +557,33 @@ TEST(FitNormalsToPositions, RemoveTextureRunsTheUpdateAgainOverWavesLeft) {
   EXPECT_THROW(remove_texture(s.P, Normals(), p), std::invalid_argument);
 }
 
+// The wavy torus run through remove_texture at wavy_torus_fit_only_params()
+// and again with `change` applied (p holds the change afterwards); the
+// second pass must run in the first.
+struct TorusRuns {
+  SynthesizedShape torus;
+  RemoveTextureParams p;
+  RemoveTextureResult defaults, changed;
+};
+
+TorusRuns wavy_torus_with_and_without(const std::function<void(RemoveTextureParams&)>& change) {
+  TorusRuns r{test::wavy_torus(), wavy_torus_fit_only_params(), {}, {}};
+  r.defaults = remove_texture(r.torus.positions, Normals(), r.p);
+  change(r.p);
+  r.changed = remove_texture(r.torus.positions, Normals(), r.p);
+  EXPECT_GT(r.defaults.report.waves_released, 0u);
+  return r;
+}
+
 // Through remove_texture, the second pass's other surface points
 // (wave_rest_anchor): on the wavy torus, holding them less lowers the spread
 // of the output's heights over the base surface below what the flagged
 // points alone give (wave_rest_anchor 1, before session 38), with the same
 // flags and the same output normals. The factor must lie in (0, 1].
 TEST(FitNormalsToPositions, RemoveTextureHoldsTheWavesFlanksLessInTheSecondPass) {
-  const SynthesizedShape torus = test::wavy_torus();
-  RemoveTextureParams p = wavy_torus_fit_only_params();
-  ASSERT_EQ(p.wave_rest_anchor, 0.3);
-  const RemoveTextureResult rest = remove_texture(torus.positions, Normals(), p);
-  p.wave_rest_anchor = 1.0;
-  const RemoveTextureResult flagged_only = remove_texture(torus.positions, Normals(), p);
-  ASSERT_GT(rest.report.waves_released, 0u);
+  ASSERT_EQ(RemoveTextureParams().wave_rest_anchor, 0.3);
+  auto [torus, p, rest, flagged_only] =
+      wavy_torus_with_and_without([](RemoveTextureParams& q) { q.wave_rest_anchor = 1.0; });
   EXPECT_EQ(rest.report.waves_released, flagged_only.report.waves_released);
   EXPECT_LT(spread_over_base(torus, rest.positions),
             0.97 * spread_over_base(torus, flagged_only.positions));
@@ -589,13 +603,9 @@ TEST(FitNormalsToPositions, RemoveTextureHoldsTheWavesFlanksLessInTheSecondPass)
 // texture removed stays removed). Without the second pass (wave_share_low
 // 1), the ceiling changes nothing. Negative or infinite values are refused.
 TEST(FitNormalsToPositions, RemoveTextureCeilsTheSecondPassesMoves) {
-  const SynthesizedShape torus = test::wavy_torus();
-  RemoveTextureParams p = wavy_torus_fit_only_params();
-  ASSERT_EQ(p.wave_ceiling, 1.0);
-  const RemoveTextureResult ceiled = remove_texture(torus.positions, Normals(), p);
-  p.wave_ceiling = 0.0;
-  const RemoveTextureResult free = remove_texture(torus.positions, Normals(), p);
-  ASSERT_GT(ceiled.report.waves_released, 0u);
+  ASSERT_EQ(RemoveTextureParams().wave_ceiling, 1.0);
+  auto [torus, p, ceiled, free] =
+      wavy_torus_with_and_without([](RemoveTextureParams& q) { q.wave_ceiling = 0.0; });
   EXPECT_GT(ceiled.report.tip_moves_limited, 50u);
   EXPECT_EQ(free.report.tip_moves_limited, 0u);
   const auto off_base = [&](const Positions& Q, int i) {

@@ -214,16 +214,15 @@ TEST(LimitTipMoves, RejectsBadParametersAndSizes) {
     change(p);
     return p;
   };
-  for (const LimitTipMovesParams& p : {with([](LimitTipMovesParams& p) { p.depth = -1.0; }),
-                                       with([](LimitTipMovesParams& p) { p.slack = -0.5; }),
-                                       with([](LimitTipMovesParams& p) { p.slack = std::nan(""); }),
-                                       with([](LimitTipMovesParams& p) { p.radius = 0.0; }),
-                                       with([](LimitTipMovesParams& p) { p.lambda = 0.0; }),
-                                       with([](LimitTipMovesParams& p) { p.ceiling = -1.0; }),
-                                       with([](LimitTipMovesParams& p) { p.ceiling = INFINITY; }),
-                                       with([](LimitTipMovesParams& p) {
-                                         p.ceiling_min_cos = 1.5;
-                                       })})
+  for (const LimitTipMovesParams& p :
+       {with([](LimitTipMovesParams& p) { p.depth = -1.0; }),
+        with([](LimitTipMovesParams& p) { p.slack = -0.5; }),
+        with([](LimitTipMovesParams& p) { p.slack = std::nan(""); }),
+        with([](LimitTipMovesParams& p) { p.radius = 0.0; }),
+        with([](LimitTipMovesParams& p) { p.lambda = 0.0; }),
+        with([](LimitTipMovesParams& p) { p.ceiling = -1.0; }),
+        with([](LimitTipMovesParams& p) { p.ceiling = INFINITY; }),
+        with([](LimitTipMovesParams& p) { p.ceiling_min_cos = 1.5; })})
     EXPECT_THROW(limit_tip_moves(c.P, c.P, c.N, c.R, p), std::invalid_argument);
   const Positions fewer = c.P.topRows(24);
   EXPECT_THROW(limit_tip_moves(c.P, fewer, c.N, c.R, params()), std::invalid_argument);

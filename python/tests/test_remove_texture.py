@@ -285,25 +285,29 @@ def test_wave_share_matches_the_command_line(work):
         detexture.remove_texture(cloud, radius=0.06, wave_share_low=0.3, wave_share_high=0.2)
     # The other surface points of the second pass (wave_rest_anchor): held
     # fully at 1, the same from Python and from the command line.
-    assert detexture.default_parameters()["wave_rest_anchor"] == 0.3
-    held = work / "torus_waves_held.ply"
-    run_cli(torus, "-o", held, "-r", "0.06", "--wave-rest-anchor", "1", "-q", "--force")
-    full = detexture.remove_texture(cloud, radius=0.06, wave_rest_anchor=1.0)
-    assert np.array_equal(detexture.read_point_cloud(held).positions, full.positions)
-    assert not np.array_equal(on.positions, full.positions)
+    second_pass_option_matches_cli(cloud, torus, work, on, "wave_rest_anchor", 0.3, 1.0)
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_rest_anchor=0.0)
-    # The second pass's ceiling (wave_ceiling): off at 0, the same from
-    # Python and from the command line.
-    assert detexture.default_parameters()["wave_ceiling"] == 1.0
-    unceiled = work / "torus_waves_unceiled.ply"
-    run_cli(torus, "-o", unceiled, "-r", "0.06", "--wave-ceiling", "0", "-q", "--force")
-    free = detexture.remove_texture(cloud, radius=0.06, wave_ceiling=0.0)
-    assert np.array_equal(detexture.read_point_cloud(unceiled).positions, free.positions)
-    assert not np.array_equal(on.positions, free.positions)
+    # The second pass's ceiling (wave_ceiling): off at 0, and then fewer
+    # moves limited.
+    free = second_pass_option_matches_cli(cloud, torus, work, on, "wave_ceiling", 1.0, 0.0)
     assert on.report.tip_moves_limited > free.report.tip_moves_limited
     with pytest.raises(ValueError):
         detexture.remove_texture(cloud, radius=0.06, wave_ceiling=-1.0)
+
+
+def second_pass_option_matches_cli(cloud, torus, work, on, keyword, default, value):
+    """The second pass's option `keyword` defaults to `default`; at `value`
+    the output differs from `on` (the defaults' run) and is the same from
+    Python and from the command line. Returns that output."""
+    assert detexture.default_parameters()[keyword] == default
+    out = work / f"torus_waves_{keyword}.ply"
+    flag = "--" + keyword.replace("_", "-")
+    run_cli(torus, "-o", out, "-r", "0.06", flag, str(value), "-q", "--force")
+    changed = detexture.remove_texture(cloud, radius=0.06, **{keyword: value})
+    assert np.array_equal(detexture.read_point_cloud(out).positions, changed.positions)
+    assert not np.array_equal(on.positions, changed.positions)
+    return changed
 
 
 def default_and_option(cube, work, cli_args, **option):
