@@ -58,7 +58,7 @@ LimitTipMovesResult limit_tip_moves(const Positions& P, const Positions& updated
     }
     if (ceiling > 0.0 && std::abs(cut) > ceiling) {
       const auto [hi, lo] =
-          relief_along_agreeing_normal(P, normals, R, i, normal, radius_sq, params.ceiling_min_cos);
+          relief_along_normal(P, R, i, normal, radius_sq, &normals, params.ceiling_min_cos);
       if (-lo > hi) cut = std::min(cut, ceiling);   // the upper half
       if (hi > -lo) cut = std::max(cut, -ceiling);  // the lower half
     }

@@ -5,8 +5,8 @@
 //   h_ij = (p_j - p_i)·n          j ∈ R_i, |p_j - p_i| <= ρ
 //   hi = max(0, max_j h_ij),  lo = min(0, min_j h_ij)
 //
-// relief_along_agreeing_normal counts only the neighbors whose normals
-// agree with the point's (limit_tip_moves' ceiling).
+// Given normals, only the neighbors whose normals agree with n count
+// (limit_tip_moves' ceiling).
 #pragma once
 
 #include <algorithm>
@@ -24,33 +24,18 @@ struct ReliefAlongNormal {
 };
 
 /// P  #P by 3 input positions; i  the point; normal  the direction n;
-/// radius_sq  ρ², the squared radius.
+/// radius_sq  ρ², the squared radius; agreeing  #P by 3 unit normals N, or
+/// null: when given, only the neighbors j with N_j·n >= min_cos count.
 inline ReliefAlongNormal relief_along_normal(const Positions& P, const Neighborhoods& R,
                                              std::size_t i, const Eigen::RowVector3d& normal,
-                                             double radius_sq) {
+                                             double radius_sq, const Normals* agreeing = nullptr,
+                                             double min_cos = -1.0) {
   ReliefAlongNormal r;
   const Eigen::RowVector3d p = P.row(static_cast<Eigen::Index>(i));
   for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
     const Eigen::RowVector3d d = P.row(*it) - p;
     if (d.squaredNorm() > radius_sq) continue;
-    const double h = d.dot(normal);
-    r.hi = std::max(r.hi, h);
-    r.lo = std::min(r.lo, h);
-  }
-  return r;
-}
-
-/// The same over the neighbors j whose normals agree with the point's:
-/// N  #P by 3 unit normals; min_cos  the least n_j·n_i that counts.
-inline ReliefAlongNormal relief_along_agreeing_normal(const Positions& P, const Normals& N,
-                                                      const Neighborhoods& R, std::size_t i,
-                                                      const Eigen::RowVector3d& normal,
-                                                      double radius_sq, double min_cos) {
-  ReliefAlongNormal r;
-  const Eigen::RowVector3d p = P.row(static_cast<Eigen::Index>(i));
-  for (const std::uint32_t* it = R.begin(i); it != R.end(i); ++it) {
-    const Eigen::RowVector3d d = P.row(*it) - p;
-    if (d.squaredNorm() > radius_sq || N.row(*it).dot(normal) < min_cos) continue;
+    if (agreeing && agreeing->row(*it).dot(normal) < min_cos) continue;
     const double h = d.dot(normal);
     r.hi = std::max(r.hi, h);
     r.lo = std::min(r.lo, h);
