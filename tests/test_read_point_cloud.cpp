@@ -275,6 +275,18 @@ TEST(ReadXyz, NormalsAreNormalizedAndFurtherColumnsKeptAsFloat64) {
   EXPECT_EQ(cloud.extras[1].values, (std::vector<double>{-1, 2, 0}));
 }
 
+// CGAL's examples name their text clouds with normals .pwn: x y z nx ny nz.
+TEST(ReadXyz, PwnFilesAreReadWithTheirNormals) {
+  ReadTempDir dir;
+  const std::string path = dir.write("oni.pwn", "0 0 0 0 0 2\n1 0 0 0 -1 0\n");
+  const PointCloud cloud = read_point_cloud(path);
+  ASSERT_EQ(cloud.size(), 2u);
+  ASSERT_TRUE(cloud.has_normals());
+  EXPECT_EQ(cloud.normals.row(0), Eigen::RowVector3d(0, 0, 1));
+  EXPECT_EQ(cloud.normals.row(1), Eigen::RowVector3d(0, -1, 0));
+  EXPECT_TRUE(cloud.extras.empty());
+}
+
 TEST(ReadXyz, FormatArgumentOverridesExtension) {
   ReadTempDir dir;
   const std::string path = dir.write("cloud.dat", "1 2 3\n");
@@ -291,7 +303,7 @@ TEST(ReadXyz, FormatArgumentOverridesExtension) {
 TEST(ReadFormat, FromExtensionAndName) {
   EXPECT_EQ(format_from_extension("a.ply"), FileFormat::Ply);
   EXPECT_EQ(format_from_extension("dir.v2/a.PLY"), FileFormat::Ply);
-  for (const char* name : {"a.xyz", "a.XYZN", "a.txt", "a.pts", "a.csv"})
+  for (const char* name : {"a.xyz", "a.XYZN", "a.pwn", "a.txt", "a.pts", "a.csv"})
     EXPECT_EQ(format_from_extension(name), FileFormat::Xyz) << name;
   EXPECT_EQ(format_from_extension("a.obj"), FileFormat::Obj);
   EXPECT_EQ(format_from_extension("a.OFF"), FileFormat::Off);

@@ -256,6 +256,18 @@ TEST(WriteXyz, RoundTripsFullPrecisionWithNormalsAndExtras) {
   expect_same_cloud(cloud, read_point_cloud(path));
 }
 
+TEST(WriteXyz, PwnIsWrittenAsSixColumns) {
+  WriteTempDir dir;
+  PointCloud cloud = simple_cloud();
+  cloud.normals = Normals::Zero(2, 3);
+  cloud.normals(0, 2) = 1;
+  cloud.normals(1, 0) = -1;
+  const std::string path = dir.file("a.pwn");
+  write_point_cloud(path, cloud);
+  EXPECT_EQ(file_bytes(path), "0 0 0 0 0 1\n1 2 3 -1 0 0\n");
+  expect_same_cloud(cloud, read_point_cloud(path));
+}
+
 TEST(WriteXyz, WithoutNormalsWritesThreeColumnsAndCsvUsesCommas) {
   WriteTempDir dir;
   PointCloud cloud = simple_cloud();

@@ -35,7 +35,8 @@ FileFormat format_from_extension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".ply") return FileFormat::Ply;
-  if (ext == ".xyz" || ext == ".xyzn" || ext == ".txt" || ext == ".pts" || ext == ".csv")
+  if (ext == ".xyz" || ext == ".xyzn" || ext == ".pwn" || ext == ".txt" || ext == ".pts" ||
+      ext == ".csv")
     return FileFormat::Xyz;
   if (ext == ".obj") return FileFormat::Obj;
   if (ext == ".off") return FileFormat::Off;
@@ -49,7 +50,8 @@ FileFormat format_from_extension(const std::string& path) {
   throw std::runtime_error(
       "cannot tell the format of '" + path + "' from its extension" +
       (ext.empty() ? std::string() : " '" + ext + "'") +
-      "; use .ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .txt, .pts or .csv, or give the format "
+      "; use .ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .pwn, .txt, .pts or .csv, or give the "
+      "format "
       "explicitly (ply, obj, off, stl, pcd or xyz)");
 }
 
