@@ -5,7 +5,7 @@
 # run with the suites' rule (-r 1.5 R, --sigma-s 1.5 R), in auto mode (no
 # parameters) and with --ignore-normals, and compared with the input.
 #
-#   bench/spot_check.sh [--peers] [--broad] [BUILD_DIR] [WORK_DIR]
+#   bench/spot_check.sh [--peers] [--broad] [--coarse] [BUILD_DIR] [WORK_DIR]
 #
 # BUILD_DIR (default build) holds detexture and bench/peers/prepare_mesh
 # (cmake -DDETEXTURE_BUILD_PEERS=ON). Prints one line per case and run:
@@ -27,6 +27,11 @@
 # six reliefs above, 36 cases in WORK_DIR/broad, the rule only, with the same
 # flags and counts (session 23's broad check).
 #
+# --coarse: then also the ten models of the wider check without subdivision
+# (Loop level 0: the faceted bases as the files hold them, facets as large
+# as the texture or larger), each with all six reliefs, 60 cases in
+# WORK_DIR/coarse, the rule only, with the same flags and counts.
+#
 # --peers: then also run the five tuned peers on the 30 cases and rank
 # detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
 # cores the first time, then cached).
@@ -37,9 +42,11 @@
 set -euo pipefail
 peers=0
 broad=0
-while [ "${1:-}" = --peers ] || [ "${1:-}" = --broad ]; do
+coarse=0
+while [ "${1:-}" = --peers ] || [ "${1:-}" = --broad ] || [ "${1:-}" = --coarse ]; do
   [ "$1" = --peers ] && peers=1
   [ "$1" = --broad ] && broad=1
+  [ "$1" = --coarse ] && coarse=1
   shift
 done
 build=$(realpath "${1:-build}")
@@ -182,6 +189,17 @@ if [ "$broad" = 1 ]; then
       "${wave_reliefs[@]}"
   done
   summarize "broad check" "$broad_flags"
+fi
+if [ "$coarse" = 1 ]; then
+  mkdir -p "$work/coarse"
+  coarse_flags=$work/coarse/flags.txt
+  : >"$coarse_flags"
+  for c in "${wide[@]}"; do
+    read -r name model levels <<<"$c"
+    check_model "$work/coarse" "$coarse_flags" "$name" "$model" 0 "${reliefs[@]}" \
+      "${wave_reliefs[@]}"
+  done
+  summarize "coarse check" "$coarse_flags"
 fi
 if [ "$peers" = 1 ]; then
   "${DETEXTURE_PYTHON:-/usr/bin/python3}" "$(dirname "$0")/spot_check_peers.py" "$build" "$work/wide"
