@@ -346,9 +346,7 @@ int run_detexture(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal error, 2 bad parameter, 3 bad input, 4 output cannot be "
       "written, 5 resource limit, 130/143/129 interrupted (README, Exit codes).\n"
       "'detexture --version' prints the version and commit; 'detexture help' is this text.");
-  app.add_option("INPUT", input,
-                 "Input point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .pwn, "
-                 ".txt, .pts, .csv)")
+  app.add_option("INPUT", input, "Input point cloud or mesh (" + known_extensions() + ")")
       ->required();
   app.add_option("-o,--output", output,
                  "Output point cloud or mesh (.ply, .obj, .off, .stl, .pcd, .xyz ...); required");

@@ -30,29 +30,44 @@ FileFormat parse_file_format(const std::string& name) {
                               "'; expected auto, ply, xyz, obj, off, stl or pcd");
 }
 
+namespace {
+
+// The one list of extensions: format_from_extension, its message and the
+// command line's help read it. `.pwn` is CGAL's name for x y z nx ny nz.
+struct ExtensionFormat {
+  const char* extension;
+  FileFormat format;
+};
+constexpr ExtensionFormat kExtensions[] = {
+    {".ply", FileFormat::Ply},  {".obj", FileFormat::Obj}, {".off", FileFormat::Off},
+    {".stl", FileFormat::Stl},  {".pcd", FileFormat::Pcd}, {".xyz", FileFormat::Xyz},
+    {".xyzn", FileFormat::Xyz}, {".pwn", FileFormat::Xyz}, {".txt", FileFormat::Xyz},
+    {".pts", FileFormat::Xyz},  {".csv", FileFormat::Xyz}};
+
+}  // namespace
+
+std::string known_extensions() {
+  std::string text;
+  for (const ExtensionFormat& e : kExtensions)
+    text += (text.empty() ? "" : ", ") + std::string(e.extension);
+  return text;
+}
+
 FileFormat format_from_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".ply") return FileFormat::Ply;
-  if (ext == ".xyz" || ext == ".xyzn" || ext == ".pwn" || ext == ".txt" || ext == ".pts" ||
-      ext == ".csv")
-    return FileFormat::Xyz;
-  if (ext == ".obj") return FileFormat::Obj;
-  if (ext == ".off") return FileFormat::Off;
-  if (ext == ".stl") return FileFormat::Stl;
-  if (ext == ".pcd") return FileFormat::Pcd;
+  for (const ExtensionFormat& e : kExtensions)
+    if (ext == e.extension) return e.format;
   for (const char* other : {".las", ".laz", ".e57", ".gltf", ".glb", ".fbx", ".3ds", ".dae"})
     if (ext == other)
       throw std::runtime_error("'" + path + "': the " + ext.substr(1) +
                                " format is not supported (yet); convert it to .ply, e.g. with "
                                "MeshLab, CloudCompare or 'assimp export'");
-  throw std::runtime_error(
-      "cannot tell the format of '" + path + "' from its extension" +
-      (ext.empty() ? std::string() : " '" + ext + "'") +
-      "; use .ply, .obj, .off, .stl, .pcd, .xyz, .xyzn, .pwn, .txt, .pts or .csv, or give the "
-      "format "
-      "explicitly (ply, obj, off, stl, pcd or xyz)");
+  throw std::runtime_error("cannot tell the format of '" + path + "' from its extension" +
+                           (ext.empty() ? std::string() : " '" + ext + "'") + "; use " +
+                           known_extensions() +
+                           ", or give the format explicitly (ply, obj, off, stl, pcd or xyz)");
 }
 
 namespace {

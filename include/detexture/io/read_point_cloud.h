@@ -90,9 +90,14 @@ constexpr std::uint64_t kMaxStreamBytes = std::uint64_t(4) << 30;
 FileFormat parse_file_format(const std::string& name);
 
 /// The format implied by a path's extension, in any case (.ply -> Ply; .obj,
-/// .off, .stl, .pcd -> Obj, Off, Stl, Pcd; .xyz .xyzn .txt .pts .csv -> Xyz);
-/// throws std::runtime_error naming the path when the extension is unknown.
+/// .off, .stl, .pcd -> Obj, Off, Stl, Pcd; .xyz .xyzn .pwn .txt .pts .csv ->
+/// Xyz: known_extensions()); throws std::runtime_error naming the path when
+/// the extension is unknown.
 FileFormat format_from_extension(const std::string& path);
+
+/// The extensions format_from_extension knows, lower case with the dot, as
+/// ".ply, .obj, ..., .csv": for messages and the command line's help.
+std::string known_extensions();
 
 struct ReadReport {
   /// Input normals of zero length, or with a NaN or Inf component: set to
