@@ -5,7 +5,7 @@
 # run with the suites' rule (-r 1.5 R, --sigma-s 1.5 R), in auto mode (no
 # parameters) and with --ignore-normals, and compared with the input.
 #
-#   bench/spot_check.sh [--peers] [--broad] [--coarse] [BUILD_DIR] [WORK_DIR]
+#   bench/spot_check.sh [--peers] [--broad] [--coarse] [--auto] [BUILD_DIR] [WORK_DIR]
 #
 # BUILD_DIR (default build) holds detexture and bench/peers/prepare_mesh
 # (cmake -DDETEXTURE_BUILD_PEERS=ON). Prints one line per case and run:
@@ -32,6 +32,13 @@
 # as the texture or larger), each with all six reliefs, 60 cases in
 # WORK_DIR/coarse, the rule only, with the same flags and counts.
 #
+# --auto: every case of the wider, waves, broad and coarse checks also runs in
+# auto mode (no parameters: r from estimate_texture_scale), compared with the
+# input and with the rule's run: a line per case (auto's r over the rule's,
+# its flags against the input, its residual texture and normal error over
+# the rule's), and per check the same counts plus the geometric means of
+# those two ratios. About twice the time.
+#
 # --peers: then also run the five tuned peers on the 30 cases and rank
 # detexture among them (bench/spot_check_peers.py; about 35 minutes on 2
 # cores the first time, then cached).
@@ -43,10 +50,13 @@ set -euo pipefail
 peers=0
 broad=0
 coarse=0
-while [ "${1:-}" = --peers ] || [ "${1:-}" = --broad ] || [ "${1:-}" = --coarse ]; do
+auto=0
+while [ "${1:-}" = --peers ] || [ "${1:-}" = --broad ] || [ "${1:-}" = --coarse ] ||
+  [ "${1:-}" = --auto ]; do
   [ "$1" = --peers ] && peers=1
   [ "$1" = --broad ] && broad=1
   [ "$1" = --coarse ] && coarse=1
+  [ "$1" = --auto ] && auto=1
   shift
 done
 build=$(realpath "${1:-build}")
@@ -126,6 +136,25 @@ print('%-19s residual %.5f -> %.5f  normal error %5.2f -> %5.2f  Dmax x%.2f  %s'
     b['normal_angle_mean_degrees'], ratio, ' '.join(worse)))
 open(flags, 'a').write(' '.join(worse) + '\n')
 PY
+  [ "$auto" = 1 ] || return 0
+  "$build/detexture" "$stem.in.ply" -o "$stem.auto.ply" -f -q --stats "$stem.auto.stats.json"
+  "$build/detexture" compare --json "$stem.auto.ply" "$stem.gt.ply" >"$stem.auto.json"
+  /usr/bin/python3 - "$stem" "$name" "${flags%.txt}-auto.txt" "$r" <<'PY'
+import json, sys
+stem, name, flags, r = sys.argv[1:]
+a = json.load(open(stem + '.in.json'))
+b = json.load(open(stem + '.rule.json'))
+c = json.load(open(stem + '.auto.json'))
+radius = json.load(open(stem + '.auto.stats.json'))['radius']
+ratio = c['dmax'] / a['dmax']
+worse = [f for f, bad in (('RES', c['signed_std'] > a['signed_std']),
+                          ('NERR', c['normal_angle_mean_degrees'] > a['normal_angle_mean_degrees']),
+                          ('DMAX', ratio > 1.25)) if bad]
+res, nerr = c['signed_std'] / b['signed_std'], c['normal_angle_mean_degrees'] / b['normal_angle_mean_degrees']
+print('%-19s auto: r x%.2f the rule\'s, residual x%.2f, normal error x%.2f the rule\'s  Dmax x%.2f  %s' % (
+    name, radius / float(r), res, nerr, ratio, ' '.join(worse)))
+open(flags, 'a').write('%s %.6f %.6f %.6f\n' % (','.join(worse) or '-', radius / float(r), res, nerr))
+PY
 }
 
 # check_model DIR FLAGS NAME MODEL LEVELS RELIEF...: prepare MODEL as
@@ -143,17 +172,32 @@ check_model() {
   done
 }
 
-# summarize LABEL FLAGS
+# summarize LABEL FLAGS: the counts, and with --auto auto mode's (FLAGS-auto).
 summarize() {
   echo "$1, $(wc -l <"$2") cases: worse residual $(grep -c RES "$2" || true), worse normal" \
     "error $(grep -c NERR "$2" || true), Dmax over 1.25 x the input's $(grep -c DMAX "$2" || true)"
+  [ "$auto" = 1 ] || return 0
+  /usr/bin/python3 - "$1" "${2%.txt}-auto.txt" <<'PY'
+import math, sys
+label, path = sys.argv[1:]
+rows = [line.split() for line in open(path)]
+gm = lambda k: math.exp(sum(math.log(float(x[k])) for x in rows) / len(rows))
+print('%s, auto mode, %d cases: worse residual %d, worse normal error %d, Dmax over 1.25 x the '
+      "input's %d; r within 0.7-1.5 x the rule's in %d (above %d, below %d); residual x%.3f and "
+      "normal error x%.3f the rule's (geometric means)" % (
+          label, len(rows), sum('RES' in x[0] for x in rows), sum('NERR' in x[0] for x in rows),
+          sum('DMAX' in x[0] for x in rows), sum(0.7 <= float(x[1]) <= 1.5 for x in rows),
+          sum(float(x[1]) > 1.5 for x in rows), sum(float(x[1]) < 0.7 for x in rows), gm(2), gm(3)))
+PY
 }
 
 mkdir -p "$work/wide" "$work/waves"
 flags=$work/wide/flags.txt
 wave_flags=$work/waves/flags.txt
 : >"$flags"
+: >"${flags%.txt}-auto.txt"
 : >"$wave_flags"
+: >"${wave_flags%.txt}-auto.txt"
 for c in "${wide[@]}"; do
   read -r name model levels <<<"$c"
   check_model "$work/wide" "$flags" "$name" "$model" "$levels" "${reliefs[@]}"
@@ -183,6 +227,7 @@ if [ "$broad" = 1 ]; then
   mkdir -p "$work/broad"
   broad_flags=$work/broad/flags.txt
   : >"$broad_flags"
+  : >"${broad_flags%.txt}-auto.txt"
   for c in "${broad_models[@]}"; do
     read -r name model levels <<<"$c"
     check_model "$work/broad" "$broad_flags" "$name" "$model" "$levels" "${reliefs[@]}" \
@@ -194,6 +239,7 @@ if [ "$coarse" = 1 ]; then
   mkdir -p "$work/coarse"
   coarse_flags=$work/coarse/flags.txt
   : >"$coarse_flags"
+  : >"${coarse_flags%.txt}-auto.txt"
   for c in "${wide[@]}"; do
     read -r name model levels <<<"$c"
     check_model "$work/coarse" "$coarse_flags" "$name" "$model" 0 "${reliefs[@]}" \
