@@ -35,6 +35,11 @@ void validate(const EstimateTextureScaleParams& p) {
     throw std::invalid_argument("the thin-part angle must be in (90, 180] degrees");
   if (!(p.plateau_slope >= 0.0) || !std::isfinite(p.plateau_slope))
     throw std::invalid_argument("the plateau slope must be >= 0 (0: read the whole curve)");
+  if (!(p.curved_plateau_slope >= 0.0) || !std::isfinite(p.curved_plateau_slope))
+    throw std::invalid_argument(
+        "the curved plateau slope must be >= 0 (0: only plateau_slope marks a plateau)");
+  if (!(p.curved_end_slope > 0.0) || !std::isfinite(p.curved_end_slope))
+    throw std::invalid_argument("the curved plateau's end slope must be positive");
   if (!(p.radius_calibration > 0.0) || !(p.min_relief >= 0.0) || !(p.min_noise_ratio >= 0.0))
     throw std::invalid_argument("the scale calibration and thresholds must be positive");
 }
@@ -297,7 +302,11 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   // plateau when its slope is below `plateau_slope`; the curve is read up to
   // its end, provided the relief there is texture (the tests below). On a
   // flat or gently curved base the flattest step is at the large radii and
-  // this reads the whole curve, as before.
+  // this reads the whole curve, as before. Where the base's growth starts
+  // before the texture has quite levelled off (sparse texture on a base
+  // curved nearly as tightly as r), the flattest step is steeper; it still
+  // marks the plateau when the curve ends rising as a base does, faster
+  // than r^curved_end_slope (curved_plateau_slope).
   std::size_t flattest = 0;
   double least_slope = std::numeric_limits<double>::infinity();
   for (std::size_t j = 1; j + 1 < J; ++j) {
@@ -308,7 +317,13 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
       flattest = j;
     }
   }
-  if (least_slope < params.plateau_slope && flattest + 2 < J) {
+  const double end_rise =
+      G[J - 3] > 0.0 ? std::log(G[J - 1] / G[J - 3]) / std::log(est.radii[J - 1] / est.radii[J - 3])
+                     : 0.0;
+  const bool plateau =
+      least_slope < params.plateau_slope ||
+      (least_slope < params.curved_plateau_slope && end_rise > params.curved_end_slope);
+  if (plateau && flattest + 2 < J) {
     const Reading g = read_up_to(flattest + 1);
     if (has_relief(g)) {
       est.texture_found = true;
