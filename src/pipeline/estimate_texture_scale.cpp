@@ -294,6 +294,10 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   auto has_relief = [&](const Reading& g) {
     return g.tmax > params.min_relief * g.read && g.tmax > params.min_noise_ratio * est.noise;
   };
+  // The log-log slope of a curve over the radii from step a to step b.
+  auto log_slope = [&](const std::vector<double>& y, std::size_t a, std::size_t b) {
+    return std::log(y[b] / y[a]) / std::log(est.radii[b] / est.radii[a]);
+  };
   // The plateau: on a curved base (limbs, tubes, a body) G rises with the
   // texture, levels off once r spans the features, and rises again as the
   // base bends away from the quadric; its largest value is then the base's,
@@ -311,15 +315,13 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
   double least_slope = std::numeric_limits<double>::infinity();
   for (std::size_t j = 1; j + 1 < J; ++j) {
     if (!(G[j] > 0.0) || !(G[j + 1] > 0.0)) continue;
-    const double slope = std::log(G[j + 1] / G[j]) / std::log(est.radii[j + 1] / est.radii[j]);
+    const double slope = log_slope(G, j, j + 1);
     if (slope < least_slope) {
       least_slope = slope;
       flattest = j;
     }
   }
-  const double end_rise =
-      G[J - 3] > 0.0 ? std::log(G[J - 1] / G[J - 3]) / std::log(est.radii[J - 1] / est.radii[J - 3])
-                     : 0.0;
+  const double end_rise = G[J - 3] > 0.0 ? log_slope(G, J - 3, J - 1) : 0.0;
   const bool plateau =
       least_slope < params.plateau_slope ||
       (least_slope < params.curved_plateau_slope && end_rise > params.curved_end_slope);
@@ -345,9 +347,7 @@ TextureScaleEstimate estimate_texture_scale(const Positions& P, const Normals& N
                  " at every radius from " + text(r0) + " to " + text(r1);
     return est;
   }
-  const double end_slope =
-      T[J - 3] > 0.0 ? std::log(T[J - 1] / T[J - 3]) / std::log(est.radii[J - 1] / est.radii[J - 3])
-                     : 0.0;
+  const double end_slope = T[J - 3] > 0.0 ? log_slope(T, J - 3, J - 1) : 0.0;
   if (end_slope > params.max_end_slope) {
     est.reason = "no texture found: the relief above local quadrics grows as r^" + text(end_slope) +
                  " up to the largest radius without levelling off, as the curvature of a "

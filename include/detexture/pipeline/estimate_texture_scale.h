@@ -115,7 +115,7 @@ struct EstimateTextureScaleParams {
   /// other estimate changed, the 14 untextured shapes still "no texture",
   /// the calibration set unchanged), and on the spot check's 156 cases of
   /// unseen models (bench/spot_check.sh) from 71 to 82 (the dwarf's sparse
-  /// bumps 4.25 → 1.35 R); the real suite's ten estimates are unchanged.
+  /// bumps 4.25 → 1.36 R); the real suite's ten estimates are unchanged.
   /// 1.3 fixed neither knot case.
   double curved_plateau_slope = 1.5;
   double curved_end_slope = 2.0;  ///< see curved_plateau_slope; > 0
