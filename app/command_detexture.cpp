@@ -233,6 +233,7 @@ void write_stats(const std::string& path, std::size_t points, const RemoveTextur
   add("  \"normals_not_fitted\": %zu,\n", r.normals_not_fitted);
   add("  \"normals_blended\": %zu,\n", r.normals_blended);
   add("  \"input_normals_kept\": %zu,\n", r.input_normals_kept);
+  add("  \"input_normals_updated\": %zu,\n", r.input_normals_updated);
   add("  \"waves_flagged\": %zu,\n  \"waves_released\": %zu,\n", r.waves_flagged, r.waves_released);
   add("  \"texture_points\": %zu,\n  \"ransac_mean_iterations\": %.6g,\n", r.texture_points,
       r.ransac_mean_iterations);
@@ -701,6 +702,10 @@ int run_detexture(int argc, char** argv) {
                "Output normals: only points labelled surface (Eq. 2) may take their input "
                "normal, not also texture-labelled ones whose nearest neighbors' input normals "
                "agree (facets where several meet; before session 25)");
+  app.add_flag("!--update-filtered-normals", params.update_input_normals,
+               "Position update: fit the filtered normals everywhere, not the exact input normals "
+               "that the --keep-input tests would take were nothing to move (facets the "
+               "filters rounded; before session 43)");
   app.add_option("--fit-max-turn", params.output_normals.max_turn_deg,
                  "Fitted output normals: a fit turning farther than this from the filtered "
                  "normal (degrees) is not taken")

@@ -271,6 +271,10 @@ DETEXTURE_VARIANTS = [
      "the second update over waves without the ceiling: crests in the upper half of their "
      "relief may move outward (troughs inward) by more than λ (limit_tip_moves.h; the default "
      "before session 39)"),
+    ("update-filtered", ["--update-filtered-normals"],
+     "the position update fits the filtered normals everywhere, also at facets whose exact "
+     "input normal the filters rounded and the output would keep (remove_texture.h, "
+     "update_input_normals; the default before session 43)"),
     ("blend-everywhere", ["--blend-share-high", "0"],
      "output normals blended with the narrow window (1-2°) on every cloud, also where no "
      "waves are left (fit_normals_to_positions.h; the default before session 15)"),

@@ -183,15 +183,28 @@ TEST_F(Cli, NeverOverwritesWithoutAsking) {
   EXPECT_EQ(run(path("in.ply") + " -o " + path("taken.ply") + " -r 0.2 --force"), 0);
 }
 
+// The modes change only the normals where the update fits the filtered
+// normals (--update-filtered-normals). By default it fits the exact input
+// normals the fitted output would keep; the filtered output keeps none, so
+// there the update is the same as with the flag.
 TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   write_point_cloud(path("in.ply"), bumpy(true));
-  ASSERT_EQ(run(path("in.ply") + " -o " + path("default.ply") + " -r 0.2"), 0) << stderr_;
+  const std::string filtered_update = " --update-filtered-normals";
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("default.ply") + " -r 0.2" + filtered_update), 0)
+      << stderr_;
   for (const char* mode : {"blended", "fitted", "filtered"})
-    ASSERT_EQ(
-        run(path("in.ply") + " -o " + path(std::string(mode) + ".ply") +
-            " -r 0.2 --output-normals " + mode + " --stats " + path(mode + std::string(".json"))),
-        0)
+    ASSERT_EQ(run(path("in.ply") + " -o " + path(std::string(mode) + ".ply") +
+                  " -r 0.2 --output-normals " + mode + " --stats " +
+                  path(mode + std::string(".json")) + filtered_update),
+              0)
         << mode << ": " << stderr_;
+  ASSERT_EQ(
+      run(path("in.ply") + " -o " + path("held.ply") + " -r 0.2 --stats " + path("held.json")), 0)
+      << stderr_;
+  ASSERT_EQ(run(path("in.ply") + " -o " + path("filtered-held.ply") +
+                " -r 0.2 --output-normals filtered --stats " + path("filtered-held.json")),
+            0)
+      << stderr_;
   // A blend window closed to almost nothing keeps the filtered normals
   // nearly everywhere, on every cloud (--blend-share-high 0: the gate would
   // open the window on this one, which has no waves; and no input normals
@@ -223,6 +236,21 @@ TEST_F(Cli, OutputNormalModesChangeOnlyTheNormals) {
   EXPECT_NE(json.find("\"input_normals_kept\": "), std::string::npos) << json;
   EXPECT_NE(json.find("\"relief_lean\": "), std::string::npos) << json;
   EXPECT_NE(json.find("\"counter_moves_limited\": "), std::string::npos) << json;
+  EXPECT_NE(json.find("\"input_normals_updated\": 0,"), std::string::npos) << json;
+  // The default holds the plane's exact input normals in the update, which
+  // moves the positions; the filtered output holds none.
+  const PointCloud h = read_point_cloud(path("held.ply")),
+                   fh = read_point_cloud(path("filtered-held.ply"));
+  EXPECT_NE(h.positions, b.positions);
+  EXPECT_EQ(fh.positions, p.positions);
+  std::ifstream held_stats(path("held.json"));
+  const std::string held_json((std::istreambuf_iterator<char>(held_stats)), {});
+  EXPECT_EQ(held_json.find("\"input_normals_updated\": 0,"), std::string::npos) << held_json;
+  EXPECT_NE(held_json.find("\"input_normals_updated\": "), std::string::npos) << held_json;
+  std::ifstream filtered_stats(path("filtered-held.json"));
+  const std::string filtered_json((std::istreambuf_iterator<char>(filtered_stats)), {});
+  EXPECT_NE(filtered_json.find("\"input_normals_updated\": 0,"), std::string::npos)
+      << filtered_json;
 }
 
 // The number after `key` in `text` (a --stats file), -1 if key is absent.

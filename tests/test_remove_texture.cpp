@@ -5,6 +5,11 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <array>
+#include <cmath>
+#include <memory>
+#include <vector>
+
 #include "detexture/eval/synthesize_shape.h"
 #include "test_support.h"
 
@@ -233,6 +238,103 @@ TEST(RemoveTexture, HandsTheInputBack) {
   EXPECT_TRUE(r.input_positions == s.positions);
   EXPECT_TRUE(r.input_normals.isApprox(s.normals, 1e-12));
   EXPECT_EQ(r.positions.rows(), s.positions.rows());
+}
+
+// An icosahedron's faces split in four and pushed out to the sphere of
+// radius 0.5: 80 flat facets about 0.3 across, meeting at edges that turn by
+// about 20°, a low-poly base like the spot check's coarse models.
+std::shared_ptr<const BaseMesh> faceted_ball() {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  std::vector<std::array<int, 3>> tris;
+  const auto middle = [&](int a, int b) {
+    v.push_back((v[a] + v[b]) / 2.0);
+    return static_cast<int>(v.size()) - 1;
+  };
+  for (const auto& f : faces) {
+    const int ab = middle(f[0], f[1]), bc = middle(f[1], f[2]), ca = middle(f[2], f[0]);
+    tris.push_back({f[0], ab, ca});
+    tris.push_back({f[1], bc, ab});
+    tris.push_back({f[2], ca, bc});
+    tris.push_back({ab, bc, ca});
+  }
+  auto mesh = std::make_shared<BaseMesh>();
+  mesh->vertices.resize(static_cast<Eigen::Index>(v.size()), 3);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    mesh->vertices.row(static_cast<Eigen::Index>(i)) = 0.5 * v[i].normalized().transpose();
+  mesh->triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t k = 0; k < tris.size(); ++k)
+    mesh->triangles.row(static_cast<Eigen::Index>(k)) << tris[k][0], tris[k][1], tris[k][2];
+  return mesh;
+}
+
+// The update fits the exact input normals of facets that the filters round
+// (update_input_normals): on a faceted ball with separated bumps, the points
+// the texture never touched stay closer to their facets (their height above
+// the base is exact there), and so does the whole cloud; false is the
+// update before (the filtered normals everywhere).
+TEST(RemoveTexture, TheUpdateFitsExactFacetNormals) {
+  SynthParams sp;
+  sp.shape = BaseShape::Mesh;
+  sp.mesh = faceted_ball();
+  sp.size = 0.04;
+  sp.amplitude = 0.015;
+  sp.points = 8000;
+  sp.ground_truth_points = 10;
+  const SynthesizedShape s = synthesize_shape(sp);
+  RemoveTextureParams p;
+  p.radius = {0.06, Length::Unit::Absolute};
+  p.threads = 2;
+  const RemoveTextureResult held = remove_texture(s.positions, s.normals, p);
+  p.update_input_normals = false;
+  const RemoveTextureResult filtered = remove_texture(s.positions, s.normals, p);
+  EXPECT_GT(held.report.input_normals_updated, s.positions.rows() / 4);
+  EXPECT_EQ(filtered.report.input_normals_updated, 0u);
+  const auto plain_rms = [&](const RemoveTextureResult& r) {
+    const Eigen::VectorXd h = height_above_base(r.positions, s);
+    double sum = 0.0;
+    int count = 0;
+    for (Eigen::Index i = 0; i < h.size(); ++i) {
+      if (s.is_texture[static_cast<std::size_t>(i)]) continue;
+      sum += h(i) * h(i);
+      ++count;
+    }
+    return std::sqrt(sum / count);
+  };
+  EXPECT_LT(plain_rms(held), 0.9 * plain_rms(filtered));
+  EXPECT_LT(rms(height_above_base(held.positions, s)),
+            rms(height_above_base(filtered.positions, s)));
+}
+
+// ... except where the relief reads as sparse engraving (V grooves, whose
+// flat walls are as exact as facets): there the update runs again with the
+// filtered normals, and the output is the one without them.
+TEST(RemoveTexture, SparseEngravingKeepsTheFilteredNormals) {
+  SynthParams sp;
+  sp.shape = BaseShape::Mesh;
+  sp.mesh = faceted_ball();
+  sp.texture = TextureKind::VGrooves;
+  sp.size = 0.04;
+  sp.amplitude = 0.012;
+  sp.points = 8000;
+  sp.ground_truth_points = 10;
+  const SynthesizedShape s = synthesize_shape(sp);
+  RemoveTextureParams p;
+  p.radius = {0.06, Length::Unit::Absolute};
+  p.threads = 2;
+  const RemoveTextureResult held = remove_texture(s.positions, s.normals, p);
+  p.update_input_normals = false;
+  const RemoveTextureResult filtered = remove_texture(s.positions, s.normals, p);
+  EXPECT_LE(held.report.relief_lean, -p.counter_moves.engraved_min_lean);
+  EXPECT_EQ(held.report.input_normals_updated, 0u);
+  EXPECT_TRUE(held.positions == filtered.positions);
+  EXPECT_TRUE(held.normals == filtered.normals);
 }
 
 TEST(RemoveTexture, RejectsBadInput) {

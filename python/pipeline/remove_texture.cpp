@@ -295,6 +295,7 @@ void bind_remove_texture(py::module_& m) {
   DETEXTURE_REPORT(normals_not_fitted);
   DETEXTURE_REPORT(normals_blended);
   DETEXTURE_REPORT(input_normals_kept);
+  DETEXTURE_REPORT(input_normals_updated);
   DETEXTURE_REPORT(waves_flagged);
   DETEXTURE_REPORT(waves_released);
   DETEXTURE_REPORT(duplicates_merged);

@@ -119,16 +119,24 @@ def test_keywords_take_names_and_lengths(cube):
 
 
 def test_output_normals_match_the_command_line(cube, work):
+    """The output normals' modes, the same from Python and from the command
+    line. Fitted and blended output normals leave the positions as they are
+    when the update fits the filtered normals (update_input_normals = False):
+    by default it fits the exact input normals the fitted output would keep,
+    and the filtered output keeps none."""
     cloud = detexture.read_point_cloud(cube)
     P = cloud.positions
     assert detexture.default_parameters()["fit_normals"] is True
     plain = detexture.remove_texture(cloud, radius=0.09, fit_normals=False)
+    assert plain.report.input_normals_updated == 0
     runs = {"fitted": ({"output_normals_blend_high_deg": 0.0}, ["--output-normals", "fitted"]),
             "blended": ({}, [])}
     for name, (kwargs, args) in runs.items():
         out = work / f"{name}.ply"
-        run_cli(cube, "-o", out, "-r", "0.09", "--fit-sigma", "0.25r", "-q", "--force", *args)
-        r = detexture.remove_texture(cloud, radius=0.09, fit_sigma="0.25r", **kwargs)
+        run_cli(cube, "-o", out, "-r", "0.09", "--fit-sigma", "0.25r", "-q", "--force",
+                "--update-filtered-normals", *args)
+        r = detexture.remove_texture(cloud, radius=0.09, fit_sigma="0.25r",
+                                     update_input_normals=False, **kwargs)
         cli = detexture.read_point_cloud(out)
         assert np.array_equal(cli.normals, r.normals), name
         assert np.array_equal(plain.positions, r.positions), name
@@ -313,12 +321,17 @@ def second_pass_option_matches_cli(cloud, torus, work, on, keyword, default, val
 def default_and_option(cube, work, cli_args, **option):
     """remove_texture on the cube at defaults and with `option`; the command
     line given `cli_args` writes the same normals as the option, and the
-    option leaves the positions as they were (an output-normal option)."""
+    option leaves the positions as they were (an output-normal option). The
+    update fits the filtered normals in all three runs
+    (update_input_normals = False): by default it fits the exact input
+    normals the keep_input tests take, so those options would move the
+    positions too (tested in test_update_input_normals_match_the_command_line)."""
     cloud = detexture.read_point_cloud(cube)
     out = work / "option.ply"
-    run_cli(cube, "-o", out, "-r", "0.09", *cli_args, "-q", "--force")
-    default = detexture.remove_texture(cloud, radius=0.09)
-    changed = detexture.remove_texture(cloud, radius=0.09, **option)
+    run_cli(cube, "-o", out, "-r", "0.09", "--update-filtered-normals", *cli_args, "-q",
+            "--force")
+    default = detexture.remove_texture(cloud, radius=0.09, update_input_normals=False)
+    changed = detexture.remove_texture(cloud, radius=0.09, update_input_normals=False, **option)
     assert np.array_equal(detexture.read_point_cloud(out).normals, changed.normals)
     assert np.array_equal(default.positions, changed.positions)
     assert not np.array_equal(default.normals, changed.normals)
@@ -429,6 +442,28 @@ def test_keep_input_normals_match_the_command_line(cube, work):
         detexture.remove_texture(cloud, radius=0.09, keep_input_still_reach=1.0)
 
 
+def test_update_input_normals_match_the_command_line(cube, work):
+    """The update fits the exact input normals that the keep_input tests
+    would take were nothing to move (session 43): on by default, where the
+    noise-free cube's facets hold them; update_input_normals = False fits
+    the filtered normals everywhere, the same from Python and from the
+    command line (--update-filtered-normals), and moves the positions."""
+    assert detexture.default_parameters()["update_input_normals"] is True
+    cloud = detexture.read_point_cloud(cube)
+    held = detexture.remove_texture(cloud, radius=0.09)
+    filtered = detexture.remove_texture(cloud, radius=0.09, update_input_normals=False)
+    assert held.report.input_normals_updated > 0.1 * len(cloud.positions)
+    assert filtered.report.input_normals_updated == 0
+    assert not np.array_equal(held.positions, filtered.positions)
+    out = work / "update_filtered.ply"
+    run_cli(cube, "-o", out, "-r", "0.09", "--update-filtered-normals", "-q", "--force")
+    assert np.array_equal(detexture.read_point_cloud(out).positions, filtered.positions)
+    # With the keep_input tests off, nothing is taken for the update either.
+    none = detexture.remove_texture(cloud, radius=0.09, keep_input_exact_angle_deg=0.0,
+                                    keep_input_still_angle_deg=0.0)
+    assert none.report.input_normals_updated == 0
+
+
 def test_reached_normals_match_the_command_line(cube, work):
     """Exact input normals the output normals reach (session 37): taken up
     to 30° from the fitted normal where some output normal within the solve
@@ -495,10 +530,12 @@ def test_texture_facets_match_the_command_line(work):
             "0.04", "--amplitude", "0.01", "-n", "20000", "--ground-truth-points", "100",
             "--seed", "1", "-o", pyramid)
     out = work / "pyramid_domes_surface_only.ply"
-    run_cli(pyramid, "-o", out, "-r", "0.06", "--keep-input-surface-only", "-q", "--force")
+    run_cli(pyramid, "-o", out, "-r", "0.06", "--keep-input-surface-only",
+            "--update-filtered-normals", "-q", "--force")
     cloud = detexture.read_point_cloud(pyramid)
-    both = detexture.remove_texture(cloud, radius=0.06)
-    surface = detexture.remove_texture(cloud, radius=0.06, keep_input_texture_facets=False)
+    both = detexture.remove_texture(cloud, radius=0.06, update_input_normals=False)
+    surface = detexture.remove_texture(cloud, radius=0.06, keep_input_texture_facets=False,
+                                       update_input_normals=False)
     assert np.array_equal(detexture.read_point_cloud(out).normals, surface.normals)
     assert np.array_equal(both.positions, surface.positions)
     assert both.report.input_normals_kept > surface.report.input_normals_kept

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "detexture/geometry/estimate_normals.h"
 #include "detexture/geometry/orient_normals.h"
@@ -244,6 +245,28 @@ void warn(const PipelineObserver& observer, const std::string& message) {
 }  // namespace
 
 namespace {
+
+// The exact input normals the update fits (RemoveTextureParams::
+// update_input_normals): those keep_input_normals would take were nothing to
+// move, by its exactness, still and facet tests at `kp` (not the move ramp,
+// which would take every normal, nor the reach, which reads output normals
+// the update has not made yet). They replace the rows of `normals`; the rows
+// they replace are listed with their old values in `replaced`, so that the
+// caller can put them back.
+void take_exact_input_normals(const Positions& P, const Normals& input,
+                              const std::vector<std::uint8_t>& is_texture, const Neighborhoods& R,
+                              KeepInputNormalsParams kp, Normals& normals,
+                              std::vector<std::pair<std::uint32_t, Eigen::RowVector3d>>& replaced) {
+  kp.high = 0.0;
+  kp.reached_angle_deg = 0.0;
+  const KeepInputNormalsResult k = keep_input_normals(P, P, input, normals, is_texture, R, kp);
+  replaced.clear();
+  for (std::size_t i = 0; i < static_cast<std::size_t>(normals.rows()); ++i) {
+    if (k.normals.row(i) == normals.row(i)) continue;
+    replaced.emplace_back(static_cast<std::uint32_t>(i), normals.row(i));
+    normals.row(i) = k.normals.row(i);
+  }
+}
 
 // Where a share of flagged points lies between low (0) and high (1), clamped:
 // the gates of the waves' second pass and of the blend's open window.
@@ -523,9 +546,28 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
     // rest instead of adding to the peak memory.
     if (up.mode == UpdateMode::Global && up.solve_radius < rep.radius)
       shrink_neighborhoods(R, P, up.solve_radius);
+    // Exact input normals for the update (update_input_normals): they stand
+    // for the filtered ones from here on, unless the relief then reads as
+    // sparse engraving, whose flat walls are as exact as facets.
+    std::vector<std::pair<std::uint32_t, Eigen::RowVector3d>> replaced;
+    if (params.update_input_normals && params.fit_normals && T.rows() == 0) {
+      KeepInputNormalsParams kp = params.keep_input;
+      kp.radius = up.solve_radius;
+      kp.lambda = rep.lambda;
+      take_exact_input_normals(P, result.input_normals, result.is_texture, R, kp, filtered,
+                               replaced);
+    }
     keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
                                  result.input_normals, up, clock.progress()),
                 {});
+    rep.input_normals_updated = replaced.size();
+    if (!replaced.empty() && relief_side < 0) {
+      for (const auto& [i, row] : replaced) filtered.row(i) = row;
+      rep.input_normals_updated = 0;
+      keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
+                                   result.input_normals, up, clock.progress()),
+                  {});
+    }
   }
   if (params.fit_normals && T.rows() == 0) {
     FitNormalsToPositionsResult fit;

@@ -292,7 +292,8 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.waves_released,          rep.report.input_normals_kept,
       rep.report.counter_moves_limited,   rep.report.tip_moves_limited,
       rep.report.raised_cells_lowered,    rep.report.raised_cells_limited,
-      rep.report.raised_cells_turned,     rep.report.sink_moves_limited};
+      rep.report.raised_cells_turned,     rep.report.sink_moves_limited,
+      rep.report.input_normals_updated};
   unsigned long long counts_all[std::size(counts)] = {};
   MPI_Reduce(counts, counts_all, static_cast<int>(std::size(counts)), MPI_UNSIGNED_LONG_LONG,
              MPI_SUM, 0, MPI_COMM_WORLD);
@@ -313,6 +314,7 @@ OutOfCoreReport remove_texture_mpi(const MpiSession& session, const std::string&
       rep.report.raised_cells_limited = static_cast<std::size_t>(counts_all[11]);
       rep.report.raised_cells_turned = static_cast<std::size_t>(counts_all[12]);
       rep.report.sink_moves_limited = static_cast<std::size_t>(counts_all[13]);
+      rep.report.input_normals_updated = static_cast<std::size_t>(counts_all[14]);
       std::vector<TileLogEntry> entries;
       for (std::size_t k = 0; k + kLogFields <= all.size(); k += kLogFields)
         entries.push_back(unpack(all.data() + k));

@@ -63,6 +63,7 @@ void merge_tile_report(const TileResult& tile, std::size_t merged_core, RemoveTe
   r.normals_not_fitted += t.normals_not_fitted;
   r.normals_blended += t.normals_blended;
   r.input_normals_kept += t.input_normals_kept;
+  r.input_normals_updated += t.input_normals_updated;
   r.waves_flagged += t.waves_flagged;
   r.waves_released += t.waves_released;
   r.duplicates_merged += t.duplicates_merged;

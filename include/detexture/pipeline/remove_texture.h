@@ -284,6 +284,31 @@ struct RemoveTextureParams {
   /// models, -0.5% to -2.9% normal error on 96 unseen cases, the suites
   /// -0.02% and -0.36%; facet_members 8 is the behaviour before.
   KeepInputNormalsParams keep_input;
+  /// Exact input normals in the update (session 43; clouds, with
+  /// fit_normals): before Sec. 6's update, a point's input normal replaces
+  /// its filtered normal where keep_input's exactness, still and facet tests
+  /// would take it were nothing to move (not its move ramp, nor its reach),
+  /// for the update and every stage after it. Why: the filters round the
+  /// facets and rims of a shape at σs, and the update followed, carrying
+  /// facets that the texture never touched off the surface (a low-poly
+  /// base's flat facets; sydney's bumps on the spot check: 81% of the points
+  /// plain facets, whose share of the squared error grew 40 × in the
+  /// coarse check). The input normal there is the surface's, when it is
+  /// exact. Where the relief then reads as sparse engraving
+  /// (limit_counter_moves.h's side −1: V grooves), the update runs again
+  /// with the filtered normals: a V groove's walls are as flat and exact as
+  /// facets, and holding them kept the grooves (the broad rod's +41% normal
+  /// error). Noisy input normals fail the exactness test and change nothing.
+  /// With fit_normals false (the filtered output normals, the paper's) the
+  /// output keeps no input normal, and neither does the update. Measured
+  /// (bench/quality_real_notes.md, session 43): on the spot check's 156
+  /// unseen cases residual texture -0.3% to -6.8% and normal error -0.6% to
+  /// -3.3% per group (geometric means), cases worse than the input 4 -> 2
+  /// in residual texture, 10 -> 9 in normal error; the real suite's blob
+  /// and saddle -20% in residual texture, the knot +0.6%, the noisy cases
+  /// unchanged. false fits the filtered normals everywhere (before session
+  /// 43).
+  bool update_input_normals = true;
   /// Waves left, second pass (clouds, with fit_normals and the blend).
   /// The output-normal fit flags the surface points where waves or grooves
   /// stayed in the positions (fit_normals_to_positions.h, waves): their
@@ -474,6 +499,10 @@ struct RemoveTextureReport {
   /// Output normals that took the input normal, fully or in part, where
   /// nothing near the point moved (keep_input_normals.h); tiled runs sum it.
   std::size_t input_normals_kept = 0;
+  /// Points whose input normal the update fitted instead of the filtered
+  /// one (update_input_normals); 0 where the relief read as sparse
+  /// engraving and the update ran again without them. Tiled runs sum it.
+  std::size_t input_normals_updated = 0;
   /// Surface points flagged as lying where waves or grooves stayed in the
   /// positions (fit_normals_to_positions.h, waves), and those whose anchors
   /// the second pass lowered (wave_share_low; 0 when it did not run).
