@@ -274,30 +274,45 @@ std::shared_ptr<const BaseMesh> faceted_ball() {
   return mesh;
 }
 
+// The faceted ball with `texture` (R 0.04, amplitude A, 8000 points), run at
+// r = 0.06 with update_input_normals on (held) and off (filtered).
+struct HeldAndFiltered {
+  SynthesizedShape shape;
+  RemoveTextureResult held, filtered;
+};
+
+HeldAndFiltered faceted_ball_runs(TextureKind texture, double amplitude) {
+  SynthParams sp;
+  sp.shape = BaseShape::Mesh;
+  sp.mesh = faceted_ball();
+  sp.texture = texture;
+  sp.size = 0.04;
+  sp.amplitude = amplitude;
+  sp.points = 8000;
+  sp.ground_truth_points = 10;
+  HeldAndFiltered out;
+  out.shape = synthesize_shape(sp);
+  RemoveTextureParams p;
+  p.radius = {0.06, Length::Unit::Absolute};
+  p.threads = 2;
+  out.held = remove_texture(out.shape.positions, out.shape.normals, p);
+  p.update_input_normals = false;
+  out.filtered = remove_texture(out.shape.positions, out.shape.normals, p);
+  return out;
+}
+
 // The update fits the exact input normals of facets that the filters round
 // (update_input_normals): on a faceted ball with separated bumps, the points
 // the texture never touched stay closer to their facets (their height above
 // the base is exact there), and so does the whole cloud; false is the
 // update before (the filtered normals everywhere).
 TEST(RemoveTexture, TheUpdateFitsExactFacetNormals) {
-  SynthParams sp;
-  sp.shape = BaseShape::Mesh;
-  sp.mesh = faceted_ball();
-  sp.size = 0.04;
-  sp.amplitude = 0.015;
-  sp.points = 8000;
-  sp.ground_truth_points = 10;
-  const SynthesizedShape s = synthesize_shape(sp);
-  RemoveTextureParams p;
-  p.radius = {0.06, Length::Unit::Absolute};
-  p.threads = 2;
-  const RemoveTextureResult held = remove_texture(s.positions, s.normals, p);
-  p.update_input_normals = false;
-  const RemoveTextureResult filtered = remove_texture(s.positions, s.normals, p);
-  EXPECT_GT(held.report.input_normals_updated, s.positions.rows() / 4);
-  EXPECT_EQ(filtered.report.input_normals_updated, 0u);
-  const auto plain_rms = [&](const RemoveTextureResult& r) {
-    const Eigen::VectorXd h = height_above_base(r.positions, s);
+  const HeldAndFiltered r = faceted_ball_runs(TextureKind::Bumps, 0.015);
+  const SynthesizedShape& s = r.shape;
+  EXPECT_GT(r.held.report.input_normals_updated, s.positions.rows() / 4);
+  EXPECT_EQ(r.filtered.report.input_normals_updated, 0u);
+  const auto plain_rms = [&](const RemoveTextureResult& out) {
+    const Eigen::VectorXd h = height_above_base(out.positions, s);
     double sum = 0.0;
     int count = 0;
     for (Eigen::Index i = 0; i < h.size(); ++i) {
@@ -307,34 +322,20 @@ TEST(RemoveTexture, TheUpdateFitsExactFacetNormals) {
     }
     return std::sqrt(sum / count);
   };
-  EXPECT_LT(plain_rms(held), 0.9 * plain_rms(filtered));
-  EXPECT_LT(rms(height_above_base(held.positions, s)),
-            rms(height_above_base(filtered.positions, s)));
+  EXPECT_LT(plain_rms(r.held), 0.9 * plain_rms(r.filtered));
+  EXPECT_LT(rms(height_above_base(r.held.positions, s)),
+            rms(height_above_base(r.filtered.positions, s)));
 }
 
 // ... except where the relief reads as sparse engraving (V grooves, whose
 // flat walls are as exact as facets): there the update runs again with the
 // filtered normals, and the output is the one without them.
 TEST(RemoveTexture, SparseEngravingKeepsTheFilteredNormals) {
-  SynthParams sp;
-  sp.shape = BaseShape::Mesh;
-  sp.mesh = faceted_ball();
-  sp.texture = TextureKind::VGrooves;
-  sp.size = 0.04;
-  sp.amplitude = 0.012;
-  sp.points = 8000;
-  sp.ground_truth_points = 10;
-  const SynthesizedShape s = synthesize_shape(sp);
-  RemoveTextureParams p;
-  p.radius = {0.06, Length::Unit::Absolute};
-  p.threads = 2;
-  const RemoveTextureResult held = remove_texture(s.positions, s.normals, p);
-  p.update_input_normals = false;
-  const RemoveTextureResult filtered = remove_texture(s.positions, s.normals, p);
-  EXPECT_LE(held.report.relief_lean, -p.counter_moves.engraved_min_lean);
-  EXPECT_EQ(held.report.input_normals_updated, 0u);
-  EXPECT_TRUE(held.positions == filtered.positions);
-  EXPECT_TRUE(held.normals == filtered.normals);
+  const HeldAndFiltered r = faceted_ball_runs(TextureKind::VGrooves, 0.012);
+  EXPECT_LE(r.held.report.relief_lean, -LimitCounterMovesParams().engraved_min_lean);
+  EXPECT_EQ(r.held.report.input_normals_updated, 0u);
+  EXPECT_TRUE(r.held.positions == r.filtered.positions);
+  EXPECT_TRUE(r.held.normals == r.filtered.normals);
 }
 
 TEST(RemoveTexture, RejectsBadInput) {
