@@ -295,7 +295,8 @@ struct RemoveTextureParams {
   /// plain facets, whose share of the squared error grew 40 × in the
   /// coarse check). The input normal there is the surface's, when it is
   /// exact. Where the relief then reads as sparse engraving
-  /// (limit_counter_moves.h's side −1: V grooves), the update runs again
+  /// (limit_counter_moves.h's side −1: V grooves; read per tile in tiled
+  /// runs, like the side itself), the update runs again
   /// with the filtered normals: a V groove's walls are as flat and exact as
   /// facets, and holding them kept the grooves (the broad rod's +41% normal
   /// error). Noisy input normals fail the exactness test and change nothing.
