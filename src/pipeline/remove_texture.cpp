@@ -557,16 +557,17 @@ RemoveTextureResult remove_texture_ordered(const Positions& P, Normals normals,
       take_exact_input_normals(P, result.input_normals, result.is_texture, R, kp, filtered,
                                replaced);
     }
-    keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
-                                 result.input_normals, up, clock.progress()),
-                {});
+    const auto first_pass = [&] {
+      keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
+                                   result.input_normals, up, clock.progress()),
+                  {});
+    };
+    first_pass();
     rep.input_normals_updated = replaced.size();
     if (!replaced.empty() && relief_side < 0) {
       for (const auto& [i, row] : replaced) filtered.row(i) = row;
       rep.input_normals_updated = 0;
-      keep_update(update_positions(P, filtered, R, result.is_texture, surface_height,
-                                   result.input_normals, up, clock.progress()),
-                  {});
+      first_pass();
     }
   }
   if (params.fit_normals && T.rows() == 0) {
